@@ -1,0 +1,71 @@
+"""The hooks a simgap plugin can implement.
+
+A plugin is a plain module (or object) listed under the entry-point group ``simgap`` of its
+distribution::
+
+    [project.entry-points.simgap]
+    my_metrics = "my_package.simgap_plugin"
+
+The module defines functions decorated with ``@simgap.hookimpl`` whose names are the hooks
+below. Each hook hands the plugin a ``register`` callback; call it once per thing you provide.
+The built-in plugins (``simgap.plugins.*``) use exactly this interface and nothing else.
+
+Set the environment variable ``SIMGAP_LOAD_PLUGINS`` to a comma-separated list of entry-point
+names to load only those (for tests and locked-down installs); an empty value loads none.
+
+Names are global per kind: two plugins that register the same simulator, metric, optimiser or
+effect name stop simgap with an error that names both distributions.
+"""
+
+from __future__ import annotations
+
+import pluggy
+
+hookspec = pluggy.HookspecMarker("simgap")
+
+
+@hookspec
+def register_simulators(register):
+    """Register simulator classes: ``register(MySimulator)``.
+
+    A simulator class subclasses :class:`simgap.Simulator`. It has a ``name`` (what a workflow
+    writes under ``simulator.plugin``) and an ``Options`` pydantic model (what it accepts under
+    ``simulator.options``). simgap creates one instance on the client from the validated
+    options, asks it :meth:`~simgap.Simulator.variables` to check the workflow against the
+    model, then pickles it once to every worker and calls
+    :meth:`~simgap.Simulator.simulate` many times there. Keep the model's bytes in the
+    instance (not a path) so workers need no shared file system, and build expensive state
+    (an extracted, instantiated FMU; a converted model) lazily on the first ``simulate`` in a
+    process, keeping it out of the pickled state.
+
+    A simulator knows nothing of metrics or optimisers.
+    """
+
+
+@hookspec
+def register_metrics(register):
+    """Register metric classes: ``register(MyMetric)``.
+
+    A metric class subclasses :class:`simgap.Metric`: a ``name`` (what a workflow writes under
+    ``targets[].metrics``), an ``Options`` pydantic model, and ``__call__(measured, simulated,
+    time)`` returning one float. ``measured`` may hold NaN (gaps in the measurement); the
+    metric decides how to treat them (the built-ins mask them). Set ``minimise = False`` for a
+    goodness-of-fit score such as R²; simgap then optimises its negative.
+
+    A metric is called on the workers, once per target per evaluation; it must be picklable
+    (a module-level class is) and fast compared with a simulation.
+    """
+
+
+@hookspec
+def register_optimisers(register):
+    """Register optimiser classes: ``register(MyOptimiser)``.
+
+    An optimiser class subclasses :class:`simgap.Optimiser`. It works in the unit cube: every
+    tuner parameter is mapped to [0, 1] (linearly or, with ``scale: log``, logarithmically) by
+    simgap, so an optimiser never sees a simulator, a unit or a bound. simgap drives it by
+    ask/tell: :meth:`~simgap.Optimiser.ask` returns a whole batch of points (one population),
+    simgap evaluates the batch in parallel and calls :meth:`~simgap.Optimiser.tell` with one
+    objective vector per point (lower is better) and a ``feasible`` flag (False where the
+    simulation failed; its objectives are then +inf).
+    """
