@@ -27,7 +27,7 @@ from .interfaces import (
     Simulator,
     Variable,
 )
-from .plugins import hookimpl
+from .plugin_host import hookimpl
 
 __version__ = "0.1.0"
 
