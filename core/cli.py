@@ -1,0 +1,146 @@
+"""The ``simgap`` command line: run, check, plugins."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from .errors import SimgapError
+
+
+def _fail(message: str) -> None:
+    click.echo(f"error: {message}", err=True)
+    sys.exit(2)
+
+
+class _Group(click.Group):
+    """Prints user-facing errors on one line instead of a traceback."""
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except SimgapError as exc:
+            _fail(str(exc))
+
+
+class RichProgress:
+    """Progress bar: generation, evaluations done/total, best error per target, failures."""
+
+    def __init__(self):
+        from rich.console import Console
+
+        self.console = Console(stderr=True)
+        self.bar = None
+        self.task = None
+        self._last_generation = -1
+
+    def start(self, total, description):
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self.console.print(f"calibrating: {description}")
+        if not self.console.is_terminal:
+            return
+        self.bar = Progress(
+            TextColumn("gen {task.fields[generation]}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            TextColumn("{task.fields[best]}"),
+            TextColumn("[red]{task.fields[failed]}"),
+            console=self.console,
+        )
+        self.task = self.bar.add_task("calibrate", total=total, generation=0, best="", failed="")
+        self.bar.start()
+
+    def update(self, *, generation, done, total, best, failed):
+        best_text = "  ".join(f"{k} {v:.4g}" for k, v in best.items())
+        failed_text = f"{failed} failed" if failed else ""
+        if self.bar is not None:
+            self.bar.update(self.task, completed=done, total=total, generation=generation, best=best_text, failed=failed_text)
+        elif generation != self._last_generation:
+            self.console.print(f"gen {generation}: {done}/{total or '?'} evaluations  best {best_text}  {failed_text}")
+        self._last_generation = generation
+
+    def message(self, text):
+        self.console.print(text)
+
+    def stop(self):
+        if self.bar is not None:
+            self.bar.stop()
+            self.bar = None
+
+
+@click.group(cls=_Group)
+@click.version_option(package_name="simgap")
+def main():
+    """simgap: calibrate simulation models against measurements and diagnose the gap."""
+
+
+@main.command()
+@click.argument("workflow", type=click.Path(path_type=Path))
+@click.option("--workers", type=click.IntRange(min=1), help="local process workers (default: one per core)")
+@click.option("--scheduler", metavar="ADDR", help="address of an existing dask scheduler, e.g. tcp://127.0.0.1:8786")
+@click.option("--out", type=click.Path(path_type=Path), help="output directory (a run folder is created inside)")
+def run(workflow, workers, scheduler, out):
+    """Calibrate the model of WORKFLOW; writes a run folder with the log, front, summary and plots."""
+    from .calibrate import calibrate
+    from .results import load_run
+    from .setup import prepare
+
+    prepared = prepare(workflow)
+    progress = RichProgress()
+    try:
+        run_dir = calibrate(prepared, workers=workers, scheduler=scheduler, output=out, progress=progress)
+    except KeyboardInterrupt:
+        progress.stop()
+        _fail("interrupted; evaluations finished so far are kept in the run folder's evaluations.parquet")
+    result = load_run(run_dir)
+    s = result.summary
+    click.echo(
+        f"{s['evaluations']} evaluations ({s['failed']} failed) in {s['timing']['wall_s']:.1f} s on "
+        f"{s['workers']} workers; {s['front_size']} solutions on the front"
+    )
+    knee = s["featured"].get("knee")
+    if knee:
+        params = ", ".join(f"{k}={v:.4g}" for k, v in knee["parameters"].items())
+        click.echo(f"knee: {params}")
+        for kind in ("training", "validation"):
+            if kind in knee:
+                click.echo(f"  {kind}: " + ", ".join(f"{k} {v:.4g}" for k, v in knee[kind].items()))
+    click.echo(f"results: {run_dir}")
+
+
+@main.command()
+@click.argument("workflow", type=click.Path(path_type=Path))
+def check(workflow):
+    """Validate WORKFLOW (schema, plugins, data, model variables) without running a simulation."""
+    from .setup import prepare
+
+    p = prepare(workflow)
+    m = p.wf.model
+    click.echo(f"{workflow}: ok")
+    click.echo(f"  data: {len(p.data.frame)} samples {p.data.frame.index[0]} .. {p.data.frame.index[-1]}")
+    click.echo(f"  simulator: {m.simulator.plugin}; {len(p.space.names)} tuner parameters; {len(m.simulator.inputs)} inputs")
+    click.echo(f"  objectives: {', '.join(p.problem.objective_names)}")
+    for note in p.notes:
+        click.echo(f"  note: {note}")
+
+
+@main.command()
+def plugins():
+    """List the installed plugins and what each registers."""
+    from .plugin_host import KINDS, get_registry
+
+    registry = get_registry()
+    for source in registry.plugins:
+        click.echo(f"{source.entry_point}  ({source.distribution} {source.version})")
+        for kind in KINDS.values():
+            names = [n for n in registry.names(kind) if registry.source(kind, n) == source]
+            if names:
+                click.echo(f"  {kind}s: {', '.join(names)}")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,347 @@
+"""The workflow file: its schema, and validation with errors that point at the line.
+
+Configuration is data. Nothing in a workflow is executed; plugin options are validated by the
+plugin's own ``Options`` model after the names have been resolved.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import pandas as pd
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+from .errors import ConfigError
+from .yamlfile import YamlDocument, read_yaml
+
+NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"
+
+
+class Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", populate_by_name=True)
+
+
+def parse_duration(value: Any) -> pd.Timedelta:
+    """``90`` (seconds), ``"10min"``, ``"1h"``, ``"2 days"`` -> Timedelta; raises ValueError."""
+    if isinstance(value, bool):
+        raise ValueError("expected a duration such as 600, '10min' or '1h'")
+    if isinstance(value, (int, float)):
+        return pd.Timedelta(seconds=float(value))
+    try:
+        td = pd.Timedelta(str(value))
+    except (ValueError, TypeError):
+        raise ValueError(f"expected a duration such as 600, '10min' or '1h', got {value!r}") from None
+    if td <= pd.Timedelta(0):
+        raise ValueError(f"expected a positive duration, got {value!r}")
+    return td
+
+
+def _check_duration(value: Any) -> Any:
+    if value is not None:
+        parse_duration(value)
+    return value
+
+
+Duration = Annotated[Any, AfterValidator(_check_duration)]
+"""A duration as written in the file (kept as written; parse with :func:`parse_duration`)."""
+
+
+# ---------------------------------------------------------------------------------------------
+# data
+
+
+class TimeSpec(Section):
+    column: str = "time"
+    unit: Literal["datetime", "s", "min", "h", "d"] = "datetime"
+    """'datetime' for timestamps in the file; otherwise numbers in this unit from ``origin``."""
+    origin: str | None = None
+    """Timestamp of time 0 for numeric time columns (default 2000-01-01 00:00)."""
+    format: str | None = None
+    """strftime format of the timestamps, when pandas cannot guess it."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _shorthand(cls, value):
+        return {"column": value} if isinstance(value, str) else value
+
+    @field_validator("origin")
+    @classmethod
+    def _origin(cls, value):
+        if value is not None:
+            try:
+                pd.Timestamp(value)
+            except (ValueError, TypeError):
+                raise ValueError(f"expected a timestamp such as '2024-01-15 00:00', got {value!r}") from None
+        return value
+
+
+class ColumnSpec(Section):
+    source: str = Field(alias="from")
+    """Column name in the file."""
+    unit: str | None = None
+    """Unit in the file."""
+    to: str | None = None
+    """Unit to convert to (requires ``unit``)."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _shorthand(cls, value):
+        return {"from": value} if isinstance(value, str) else value
+
+    @model_validator(mode="after")
+    def _units(self):
+        if self.to is not None and self.unit is None:
+            raise ValueError("'to' needs 'unit' (the unit in the file) to convert from")
+        return self
+
+
+Bound = float | str
+
+
+class TimeRange(Section):
+    start: Bound
+    """Timestamp, a number in the time column's unit, or a share of the record such as '60%'."""
+    end: Bound
+
+
+class Segments(Section):
+    training: list[TimeRange] = Field(min_length=1)
+    validation: list[TimeRange] = Field(default_factory=list)
+    warmup: Duration = None
+    """Simulate this long before each segment (initial state settling); not scored."""
+
+    @field_validator("training", "validation", mode="before")
+    @classmethod
+    def _one_or_many(cls, value):
+        return [value] if isinstance(value, dict) else value
+
+
+
+class DataConfig(Section):
+    file: str
+    time: TimeSpec = Field(default_factory=TimeSpec)
+    columns: dict[str, ColumnSpec] = Field(default_factory=dict)
+    """New column name -> source column (renames) with optional unit conversion."""
+    resample: Duration = None
+    """Resample to this period (interval means), e.g. '10min'."""
+    segments: Segments
+
+
+
+# ---------------------------------------------------------------------------------------------
+# model, parameters, targets
+
+
+class SimulatorConfig(Section):
+    plugin: str
+    options: dict[str, Any] = Field(default_factory=dict)
+    inputs: dict[str, str] = Field(default_factory=dict)
+    """Model input variable -> measured column fed to it."""
+
+
+class Parameter(Section):
+    name: str
+    min: float
+    max: float
+    start: float | None = None
+    scale: Literal["linear", "log"] = "linear"
+    unit: str | None = None
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        if not self.min < self.max:
+            raise ValueError(f"min ({self.min:g}) must be below max ({self.max:g})")
+        if self.scale == "log" and self.min <= 0:
+            raise ValueError(f"scale 'log' needs min > 0, got {self.min:g}")
+        if self.start is not None and not self.min <= self.start <= self.max:
+            raise ValueError(f"start ({self.start:g}) must lie within [{self.min:g}, {self.max:g}]")
+        return self
+
+
+class MetricSpec(Section):
+    name: str
+    """Metric plugin name, e.g. 'rmse'."""
+    label: str | None = Field(None, pattern=NAME_PATTERN)
+    """Name in result columns; defaults to the metric name (plus '_' and the resolution)."""
+    resolution: Duration = None
+    """Aggregate measured and simulated series to this period (means) before scoring."""
+    objective: bool = True
+    """False: reported for every evaluation but not optimised."""
+    options: dict[str, Any] = Field(default_factory=dict)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _shorthand(cls, value):
+        return {"name": value} if isinstance(value, str) else value
+
+
+    @property
+    def key(self) -> str:
+        if self.label:
+            return self.label
+        if self.resolution is None:
+            return self.name
+        return f"{self.name}_{re.sub(r'[^A-Za-z0-9]', '', str(self.resolution))}"
+
+
+class Target(Section):
+    name: str = Field(pattern=NAME_PATTERN)
+    measured: str | list[str]
+    simulated: str | list[str]
+    metrics: list[MetricSpec] = Field(min_length=1)
+
+    @property
+    def measured_columns(self) -> list[str]:
+        return [self.measured] if isinstance(self.measured, str) else list(self.measured)
+
+    @property
+    def simulated_variables(self) -> list[str]:
+        return [self.simulated] if isinstance(self.simulated, str) else list(self.simulated)
+
+    @model_validator(mode="after")
+    def _shape(self):
+        if len(self.measured_columns) != len(self.simulated_variables):
+            raise ValueError("'measured' and 'simulated' must name the same number of series")
+        keys = [m.key for m in self.metrics]
+        dup = sorted({k for k in keys if keys.count(k) > 1})
+        if dup:
+            raise ValueError(f"metric {dup[0]!r} appears twice; give one a 'label'")
+        return self
+
+
+# ---------------------------------------------------------------------------------------------
+# optimiser, execution
+
+
+class Budget(Section):
+    evaluations: int | None = Field(None, ge=1)
+    generations: int | None = Field(None, ge=1)
+    wall_time: Duration = None
+
+
+    @model_validator(mode="after")
+    def _some(self):
+        if self.evaluations is None and self.generations is None and self.wall_time is None:
+            raise ValueError("give at least one of evaluations, generations, wall_time")
+        return self
+
+
+class OptimiserConfig(Section):
+    plugin: str = "nsga2"
+    options: dict[str, Any] = Field(default_factory=dict)
+    seed: int = 1
+    budget: Budget
+
+
+class ExecutionConfig(Section):
+    workers: int | None = Field(None, ge=1)
+    """Local process workers (default: one per core)."""
+    scheduler: str | None = None
+    """Address of an existing dask scheduler, e.g. tcp://10.0.0.5:8786 (overrides workers)."""
+    timeout: Duration = "10min"
+    """Longest a single simulation may take before it is recorded as failed."""
+    batch_size: int | None = Field(None, ge=1)
+    """Evaluations per dask task (default: a generation split into 4 tasks per worker)."""
+
+
+
+class Workflow(Section):
+    name: str | None = Field(None, pattern=NAME_PATTERN)
+    description: str | None = None
+    data: DataConfig
+    simulator: SimulatorConfig
+    parameters: list[Parameter] = Field(min_length=1)
+    targets: list[Target] = Field(min_length=1)
+    optimiser: OptimiserConfig
+    execution: ExecutionConfig = Field(default_factory=ExecutionConfig)
+    output: str = "runs"
+
+    @model_validator(mode="after")
+    def _unique(self):
+        for kind, items in (("parameter", self.parameters), ("target", self.targets)):
+            names = [i.name for i in items]
+            dup = sorted({n for n in names if names.count(n) > 1})
+            if dup:
+                raise ValueError(f"{kind} {dup[0]!r} is named twice")
+        return self
+
+
+# ---------------------------------------------------------------------------------------------
+# loading
+
+
+def _describe(error: dict) -> str:
+    kind, msg = error["type"], error["msg"]
+    if kind == "missing":
+        return "required key is missing"
+    if kind == "extra_forbidden":
+        return "unknown key"
+    if msg.startswith("Value error, "):
+        msg = msg[len("Value error, ") :]
+    if msg.startswith("Assertion failed, "):
+        msg = msg[len("Assertion failed, ") :]
+    value = error.get("input")
+    if kind not in ("missing",) and not isinstance(value, (dict, list)) and value is not None:
+        return f"{msg} (got {value!r})"
+    return msg
+
+
+def validation_error(doc: YamlDocument, exc: ValidationError, prefix: tuple = ()) -> ConfigError:
+    """Turn pydantic's errors into one ConfigError: the first problem, plus a count of the rest."""
+    problems = []
+    for err in exc.errors():
+        loc = prefix + tuple(p for p in err["loc"] if not (isinstance(p, str) and p.startswith("function-")))
+        problems.append((loc, _describe(err)))
+    loc, message = problems[0]
+    error = doc.error(loc, message)
+    if len(problems) > 1:
+        rest = "; ".join(f"{doc.where(l)}: {m}" for l, m in problems[1:4])
+        error = ConfigError(
+            f"{message} (also: {rest}{'; ...' if len(problems) > 4 else ''})",
+            where=error.where,
+            path=error.path,
+        )
+    return error
+
+
+class LoadedWorkflow:
+    """A validated workflow with the file it came from, to point errors at lines."""
+
+    def __init__(self, doc: YamlDocument, model: Workflow):
+        self.doc = doc
+        self.model = model
+
+    @property
+    def path(self) -> Path:
+        return self.doc.path
+
+    @property
+    def base_dir(self) -> Path:
+        return self.doc.path.parent
+
+    def error(self, path, message: str) -> ConfigError:
+        return self.doc.error(path, message)
+
+    def resolve(self, path: str | Path) -> Path:
+        p = Path(path).expanduser()
+        return p if p.is_absolute() else (self.base_dir / p).resolve()
+
+
+def load_workflow(path: str | Path) -> LoadedWorkflow:
+    """Read and validate the schema of a workflow file (plugins, data and model come later)."""
+    doc = read_yaml(path)
+    try:
+        model = Workflow.model_validate(doc.data)
+    except ValidationError as exc:
+        raise validation_error(doc, exc) from None
+    return LoadedWorkflow(doc, model)

@@ -1,0 +1,150 @@
+"""Schedule evaluations on dask: a LocalCluster of process workers, or an existing scheduler."""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+from typing import Callable
+
+from .errors import SimgapError
+from .evaluation import STATUS_FAILED, EvaluationSetup, evaluate_batch, objective_vector
+
+log = logging.getLogger(__name__)
+
+# A task that has not answered after (evaluations × timeout × this factor + grace) is given up.
+HARD_TIMEOUT_FACTOR = 1.5
+HARD_TIMEOUT_GRACE_S = 30.0
+
+
+class DaskExecutor:
+    """Runs batches of evaluations on dask workers.
+
+    The evaluation setup (model bytes, measured data, metrics) is scattered to every worker once
+    with :meth:`share`; each task then carries only parameter values.
+    """
+
+    def __init__(self, *, workers: int | None = None, scheduler: str | None = None, batch_size: int | None = None):
+        self.requested_workers = workers
+        self.scheduler = scheduler
+        self.batch_size = batch_size
+        self.client = None
+        self.cluster = None
+
+    # -- lifecycle ----------------------------------------------------------------------------
+
+    def __enter__(self) -> "DaskExecutor":
+        from distributed import Client, LocalCluster
+
+        if self.scheduler:
+            try:
+                self.client = Client(self.scheduler, timeout="10s")
+            except (OSError, TimeoutError) as exc:
+                raise SimgapError(f"cannot reach the dask scheduler at {self.scheduler}: {exc}") from None
+            self.client.wait_for_workers(1, timeout=30)
+        else:
+            n = self.requested_workers or os.cpu_count() or 1
+            self.cluster = LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.ERROR,
+            )
+            self.client = Client(self.cluster)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.client is not None:
+            self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+    @property
+    def n_workers(self) -> int:
+        return max(1, len(self.client.scheduler_info(n_workers=-1)["workers"]))
+
+    @property
+    def description(self) -> str:
+        where = self.scheduler or "local cluster"
+        return f"{self.n_workers} dask workers ({where})"
+
+    # -- work ---------------------------------------------------------------------------------
+
+    def share(self, setup: EvaluationSetup):
+        """Send the setup to every worker once; returns the handle tasks refer to."""
+        return self.client.scatter(setup, broadcast=True, hash=False)
+
+    def _chunks(self, jobs: list) -> list[list]:
+        size = self.batch_size or max(1, math.ceil(len(jobs) / (4 * self.n_workers)))
+        return [jobs[i : i + size] for i in range(0, len(jobs), size)]
+
+    def run(
+        self,
+        setup: EvaluationSetup,
+        handle,
+        jobs: list[tuple[int, dict[str, float]]],
+        *,
+        keep_series: bool = False,
+        on_done: Callable[[list[dict]], None] | None = None,
+    ) -> list[dict]:
+        """Evaluate ``jobs`` (eval_id, parameters); rows come back in job order.
+
+        ``on_done`` is called with each task's rows as soon as the task returns.
+        """
+        from distributed import wait
+
+        chunks = self._chunks(jobs)
+        futures = {}
+        for chunk in chunks:
+            fut = self.client.submit(evaluate_batch, handle, chunk, keep_series, pure=False)
+            futures[fut] = (chunk, time.monotonic())
+        rows: dict[int, dict] = {}
+        pending = set(futures)
+        while pending:
+            done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
+            for fut in done:
+                chunk, _ = futures[fut]
+                try:
+                    got = fut.result()
+                except Exception as exc:  # a worker that died takes its task with it
+                    got = [self._failed(setup, eval_id, f"worker lost: {type(exc).__name__}: {exc}") for eval_id, _ in chunk]
+                for row in got:
+                    rows[row["eval_id"]] = row
+                if on_done is not None:
+                    on_done(got)
+            if setup.timeout_s:
+                pending = self._give_up_overdue(setup, futures, pending, rows, on_done)
+        return [rows[eval_id] for eval_id, _ in jobs]
+
+    def _give_up_overdue(self, setup, futures, pending, rows, on_done):
+        now = time.monotonic()
+        still = set()
+        for fut in pending:
+            chunk, submitted = futures[fut]
+            limit = len(chunk) * setup.timeout_s * HARD_TIMEOUT_FACTOR + HARD_TIMEOUT_GRACE_S
+            if now - submitted <= limit:
+                still.add(fut)
+                continue
+            fut.cancel()
+            got = [self._failed(setup, eval_id, f"timeout: no answer within {limit:.0f} s; task cancelled") for eval_id, _ in chunk]
+            for row in got:
+                rows[row["eval_id"]] = row
+            if on_done is not None:
+                on_done(got)
+        return still
+
+    @staticmethod
+    def _failed(setup: EvaluationSetup, eval_id: int, message: str) -> dict:
+        return {
+            "eval_id": eval_id,
+            "status": STATUS_FAILED,
+            "error": message,
+            "errors": None,
+            "objectives": objective_vector(setup, None),
+            "sim_time_s": math.nan,
+            "metric_time_s": math.nan,
+            "wall_time_s": math.nan,
+            "worker": None,
+        }

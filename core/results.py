@@ -1,0 +1,172 @@
+"""The run directory: the evaluation log, the front, the summary, and reading them back.
+
+Layout of a run directory::
+
+    workflow.yaml          the workflow as given (for provenance and resume)
+    evaluations.parquet    one row per evaluation, rewritten atomically as results arrive
+    pareto.parquet         the non-dominated solutions with training and validation errors
+    summary.json           what ran, the best solutions, timings, notes
+    plots/*.png            front, convergence, measured vs simulated
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from .errors import SimgapError
+
+EVALUATIONS = "evaluations.parquet"
+PARETO = "pareto.parquet"
+SUMMARY = "summary.json"
+WORKFLOW = "workflow.yaml"
+
+PARAM = "param."
+ERROR = "error."
+OBJECTIVE = "objective."
+VALIDATION = "validation."
+
+
+def _atomic_write_table(table: pa.Table, path: Path) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    pq.write_table(table, tmp)
+    os.replace(tmp, path)
+
+
+class RunStore:
+    """Appends evaluations to ``evaluations.parquet`` as they return.
+
+    Parquet files cannot be appended to, so the whole log is rewritten to a temporary file and
+    renamed over the old one: a crash leaves the previous complete file, never a torn one.
+    """
+
+    def __init__(self, run_dir: Path, run_id: str, parameter_names, error_columns, objective_columns):
+        self.dir = Path(run_dir)
+        self.run_id = run_id
+        self.parameter_names = list(parameter_names)
+        self.error_columns = list(error_columns)
+        self.objective_columns = list(objective_columns)
+        self._columns: dict[str, list] = {name: [] for name in self.column_names}
+
+    @property
+    def column_names(self) -> list[str]:
+        return (
+            ["run_id", "eval_id", "generation", "status", "error"]
+            + [PARAM + p for p in self.parameter_names]
+            + [ERROR + c for c in self.error_columns]
+            + [OBJECTIVE + c for c in self.objective_columns]
+            + ["sim_time_s", "metric_time_s", "wall_time_s", "worker"]
+        )
+
+    def __len__(self) -> int:
+        return len(self._columns["eval_id"])
+
+    def append(self, rows: list[dict], generation: int, params_by_id: dict[int, dict[str, float]]) -> None:
+        c = self._columns
+        for row in rows:
+            c["run_id"].append(self.run_id)
+            c["eval_id"].append(int(row["eval_id"]))
+            c["generation"].append(int(generation))
+            c["status"].append(row["status"])
+            c["error"].append(row["error"])
+            params = params_by_id[row["eval_id"]]
+            for p in self.parameter_names:
+                c[PARAM + p].append(float(params[p]))
+            errors = row["errors"] or {}
+            for col in self.error_columns:
+                c[ERROR + col].append(float(errors.get(col, math.nan)))
+            for col, value in zip(self.objective_columns, row["objectives"]):
+                c[OBJECTIVE + col].append(float(value))
+            for key in ("sim_time_s", "metric_time_s", "wall_time_s"):
+                c[key].append(float(row[key]))
+            c["worker"].append(row["worker"])
+        self.flush()
+
+    def table(self) -> pa.Table:
+        return pa.table(self._columns)
+
+    def flush(self) -> None:
+        _atomic_write_table(self.table(), self.dir / EVALUATIONS)
+
+    def frame(self) -> pd.DataFrame:
+        return self.table().to_pandas()
+
+    def write_pareto(self, frame: pd.DataFrame) -> None:
+        _atomic_write_table(pa.Table.from_pandas(frame, preserve_index=False), self.dir / PARETO)
+
+    def write_summary(self, summary: dict) -> None:
+        tmp = self.dir / (SUMMARY + ".tmp")
+        tmp.write_text(json.dumps(summary, indent=2, default=_json_default), encoding="utf-8")
+        os.replace(tmp, self.dir / SUMMARY)
+
+
+def _json_default(value):
+    if hasattr(value, "isoformat"):
+        return value.isoformat()
+    if hasattr(value, "item"):
+        return value.item()
+    return str(value)
+
+
+def prepare_run_dir(parent: Path, run_id: str, workflow_file: Path) -> Path:
+    run_dir = Path(parent) / run_id
+    run_dir.mkdir(parents=True, exist_ok=False)
+    shutil.copyfile(workflow_file, run_dir / WORKFLOW)
+    (run_dir / "plots").mkdir()
+    return run_dir
+
+
+@dataclass
+class Run:
+    """A run read back: ``evaluations``, ``pareto`` (None if the run did not finish), ``summary``."""
+
+    dir: Path
+    evaluations: pd.DataFrame
+    pareto: pd.DataFrame | None
+    summary: dict
+
+    @property
+    def parameter_names(self) -> list[str]:
+        return [c[len(PARAM) :] for c in self.evaluations.columns if c.startswith(PARAM)]
+
+    @property
+    def objective_names(self) -> list[str]:
+        return [c[len(OBJECTIVE) :] for c in self.evaluations.columns if c.startswith(OBJECTIVE)]
+
+    @property
+    def knee(self) -> pd.Series | None:
+        if self.pareto is None or "knee" not in self.pareto:
+            return None
+        return self.pareto[self.pareto["knee"]].iloc[0]
+
+    def __repr__(self) -> str:
+        front = "no front yet" if self.pareto is None else f"{len(self.pareto)} on the front"
+        return f"<Run {self.dir.name}: {len(self.evaluations)} evaluations, {front}>"
+
+
+def _is_run_dir(path: Path) -> bool:
+    return (path / EVALUATIONS).is_file()
+
+
+def load_run(path) -> Run:
+    """Read a run directory (or the newest run inside an output directory) into pandas."""
+    path = Path(path)
+    if not path.exists():
+        raise SimgapError(f"no such run directory: {path}")
+    if not _is_run_dir(path):
+        runs = sorted((p for p in path.iterdir() if p.is_dir() and _is_run_dir(p)), key=lambda p: p.name)
+        if not runs:
+            raise SimgapError(f"{path} holds no {EVALUATIONS}: not a simgap run directory")
+        path = runs[-1]
+    evaluations = pd.read_parquet(path / EVALUATIONS)
+    pareto = pd.read_parquet(path / PARETO) if (path / PARETO).is_file() else None
+    summary = json.loads((path / SUMMARY).read_text()) if (path / SUMMARY).is_file() else {}
+    return Run(dir=path, evaluations=evaluations, pareto=pareto, summary=summary)

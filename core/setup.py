@@ -1,0 +1,223 @@
+"""Turn a validated workflow into ready parts: plugins, data, cases, the model check.
+
+Everything here runs before the first simulation, so that ``simgap check`` finds every problem
+a run would meet (bar failing simulations) without running one.
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from pydantic import ValidationError
+
+from .config import LoadedWorkflow, load_workflow, parse_duration, validation_error
+from .data import MeasuredData, Segment, input_series, load_measured, seconds_since, segments
+from .errors import ConfigError, PluginError, SimgapError
+from .evaluation import Bins, EvaluationSetup, MetricSlot, TargetData
+from .interfaces import PluginContext, Problem, SimulationCase, Simulator
+from .plugin_host import Registry, get_registry
+from .space import ParameterSpace
+
+
+def cache_dir() -> Path:
+    env = os.environ.get("SIMGAP_CACHE_DIR")
+    if env:
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "simgap"
+
+
+@dataclass
+class Prepared:
+    """A workflow with every part built and checked, ready to run."""
+
+    wf: LoadedWorkflow
+    registry: Registry
+    data: MeasuredData
+    simulator: Simulator
+    space: ParameterSpace
+    training: EvaluationSetup
+    validation: EvaluationSetup | None
+    problem: Problem
+    notes: list[str] = field(default_factory=list)
+
+    def make_optimiser(self, max_evaluations: int | None):
+        cfg = self.wf.model.optimiser
+        cls = self.registry.get("optimiser", cfg.plugin)
+        options = plugin_options(self.wf, cls, cfg.options, ("optimiser",))
+        return cls(options, self.problem, seed=cfg.seed, max_evaluations=max_evaluations)
+
+    @property
+    def plugins_used(self) -> dict[str, str]:
+        m = self.wf.model
+        used = {("simulator", m.simulator.plugin), ("optimiser", m.optimiser.plugin)}
+        used |= {("metric", s.name) for t in m.targets for s in t.metrics}
+        return {f"{kind}:{name}": str(self.registry.source(kind, name)) for kind, name in sorted(used)}
+
+
+def plugin_options(wf: LoadedWorkflow, cls, options: dict, key: tuple):
+    try:
+        return cls.Options.model_validate(options)
+    except ValidationError as exc:
+        raise validation_error(wf.doc, exc, prefix=key + ("options",)) from None
+
+
+def _lookup(wf: LoadedWorkflow, registry: Registry, kind: str, name: str, key: tuple):
+    try:
+        return registry.get(kind, name)
+    except PluginError as exc:
+        raise wf.error(key, str(exc)) from None
+
+
+def _build_simulator(wf: LoadedWorkflow, registry: Registry) -> Simulator:
+    cfg = wf.model.simulator
+    cls = _lookup(wf, registry, "simulator", cfg.plugin, ("simulator", "plugin"))
+    options = plugin_options(wf, cls, cfg.options, ("simulator",))
+    context = PluginContext(base_dir=wf.base_dir, cache_dir=cache_dir(), source=wf.path.name)
+    try:
+        return cls(options, context)
+    except ConfigError:
+        raise
+    except SimgapError as exc:
+        raise wf.error(("simulator", "options"), str(exc)) from None
+
+
+def check_model(wf: LoadedWorkflow, simulator: Simulator) -> None:
+    """Every tuner parameter settable, every input an input, every target variable present.
+
+    This is the FMI-level counterpart of checking that no tuner parameter is structural: a
+    parameter the model cannot take before a run would silently do nothing.
+    """
+    variables = simulator.variables()
+    m = wf.model
+    problems: list[tuple[tuple, str]] = []
+    for i, p in enumerate(m.parameters):
+        var = variables.get(p.name)
+        if var is None:
+            problems.append((("parameters", i, "name"), f"{p.name!r} (no such variable)"))
+        elif not var.settable:
+            why = var.why_not_settable or f"a {var.kind}, not a settable parameter"
+            problems.append((("parameters", i, "name"), f"{p.name!r} ({why})"))
+    for name in m.simulator.inputs:
+        var = variables.get(name)
+        if var is None:
+            problems.append((("simulator", "inputs", name), f"input {name!r} (no such variable)"))
+        elif var.kind != "input":
+            problems.append((("simulator", "inputs", name), f"input {name!r} (it is a {var.kind}, not an input)"))
+    for i, t in enumerate(m.targets):
+        for v in t.simulated_variables:
+            if v not in variables:
+                problems.append((("targets", i, "simulated"), f"target variable {v!r} (no such variable)"))
+    if problems:
+        key = problems[0][0]
+        listed = ", ".join(msg for _, msg in problems)
+        raise wf.error(key, f"the model ({m.simulator.plugin}) cannot take: {listed}")
+
+
+def _check_columns(wf: LoadedWorkflow, data: MeasuredData) -> None:
+    cols = set(data.frame.columns)
+    available = ", ".join(map(str, data.frame.columns))
+    for name, column in wf.model.simulator.inputs.items():
+        if column not in cols:
+            raise wf.error(("simulator", "inputs", name), f"measured column {column!r} not in the data; columns: {available}")
+    for i, t in enumerate(wf.model.targets):
+        for column in t.measured_columns:
+            if column not in cols:
+                raise wf.error(("targets", i, "measured"), f"measured column {column!r} not in the data; columns: {available}")
+
+
+def _cases(wf: LoadedWorkflow, data: MeasuredData, segs: list[Segment], token: str, notes: list[str]):
+    frame, ref = data.frame, data.reference_time
+    m = wf.model
+    outputs = tuple(dict.fromkeys(v for t in m.targets for v in t.simulated_variables))
+    input_cols = list(m.simulator.inputs.values())
+    cases, rows = [], []
+    for seg in segs:
+        sim_rows = frame.loc[seg.sim_start : seg.end]
+        filled, gap_notes = input_series(sim_rows, input_cols) if input_cols else (sim_rows[[]], [])
+        notes.extend(f"{seg.name}: {n}" for n in gap_notes)
+        out_rows = frame.loc[seg.start : seg.end]
+        cases.append(
+            SimulationCase(
+                key=f"{token}:{seg.name}",
+                reference_time=ref,
+                start=float(seconds_since(pd.DatetimeIndex([seg.sim_start]), ref)[0]),
+                stop=float(seconds_since(pd.DatetimeIndex([seg.end]), ref)[0]),
+                input_time=seconds_since(sim_rows.index, ref),
+                inputs={var: filled[col].to_numpy(dtype=float) for var, col in m.simulator.inputs.items()},
+                output_time=seconds_since(out_rows.index, ref),
+                outputs=outputs,
+            )
+        )
+        rows.append(out_rows)
+    return cases, pd.concat(rows)
+
+
+def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes) -> EvaluationSetup:
+    token = uuid.uuid4().hex[:12]
+    cases, scored = _cases(wf, data, segs, token, notes)
+    time = scored.index.to_numpy(dtype="datetime64[ns]")
+    targets, slots = [], []
+    for i, t in enumerate(wf.model.targets):
+        cols = t.measured_columns
+        measured = scored[cols[0]].to_numpy(dtype=float) if len(cols) == 1 else scored[cols].to_numpy(dtype=float)
+        target = TargetData(name=t.name, variables=tuple(t.simulated_variables), measured=measured, time=time)
+        if target.masked_fraction >= 1.0:
+            raise wf.error(("targets", i, "measured"), f"measured column(s) {', '.join(cols)} hold no values in these segments")
+        targets.append(target)
+        for j, spec in enumerate(t.metrics):
+            key = ("targets", i, "metrics", j)
+            cls = _lookup(wf, registry, "metric", spec.name, key + ("name",))
+            metric = cls(plugin_options(wf, cls, spec.options, key))
+            bins = None
+            if spec.resolution is not None:
+                bins = Bins.of(time, int(parse_duration(spec.resolution).value))
+            slots.append(MetricSlot(target=i, key=spec.key, metric=metric, objective=spec.objective, bins=bins))
+    timeout = parse_duration(wf.model.execution.timeout).total_seconds()
+    return EvaluationSetup(token=token, simulator=simulator, cases=cases, targets=targets, slots=slots, timeout_s=timeout)
+
+
+def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = None) -> Prepared:
+    """Validate a workflow against plugins, data and model; build everything a run needs."""
+    wf = workflow if isinstance(workflow, LoadedWorkflow) else load_workflow(workflow)
+    registry = registry or get_registry()
+    m = wf.model
+    # names first: a typo in a plugin name should not wait for the data to load
+    _lookup(wf, registry, "optimiser", m.optimiser.plugin, ("optimiser", "plugin"))
+    for i, t in enumerate(m.targets):
+        for j, spec in enumerate(t.metrics):
+            cls = _lookup(wf, registry, "metric", spec.name, ("targets", i, "metrics", j, "name"))
+            plugin_options(wf, cls, spec.options, ("targets", i, "metrics", j))
+    optimiser_cls = registry.get("optimiser", m.optimiser.plugin)
+    plugin_options(wf, optimiser_cls, m.optimiser.options, ("optimiser",))
+
+    data = load_measured(wf)
+    _check_columns(wf, data)
+    train_segs = segments(wf, data, "training")
+    valid_segs = segments(wf, data, "validation")
+
+    simulator = _build_simulator(wf, registry)
+    check_model(wf, simulator)
+
+    notes = list(data.notes)
+    space = ParameterSpace.from_config(m.parameters)
+    training = _setup(wf, registry, simulator, data, train_segs, notes)
+    validation = _setup(wf, registry, simulator, data, valid_segs, notes) if valid_segs else None
+    problem = Problem(
+        n_var=len(space.names),
+        n_obj=len(training.objective_columns),
+        variable_names=space.names,
+        objective_names=tuple(training.objective_columns),
+        x0=space.start_point(m.parameters),
+    )
+    if problem.n_obj == 0:
+        raise wf.error(("targets",), "no metric is an objective; set 'objective: true' on at least one")
+    return Prepared(wf, registry, data, simulator, space, training, validation, problem, notes)
+
+
+__all__ = ["Prepared", "prepare", "check_model", "cache_dir", "np"]
