@@ -53,23 +53,38 @@ def load_model(path: Path, executable: Path) -> dict:
 
 
 def last_errors(err_file: Path) -> str:
-    """The last ``** Severe **`` and ``** Fatal **`` messages of an ``eplusout.err``, on one line."""
+    """The Severe and Fatal messages of an ``eplusout.err`` on one line.
+
+    The last Severe and the Fatal message say where EnergyPlus stopped; the first Severe is
+    added when it differs, because that is usually the cause (a missing object upstream).
+    """
     try:
         lines = err_file.read_text(encoding="latin-1").splitlines()
     except OSError:
         return ""
-    found = {}
+    severe: list[str] = []
+    fatal = ""
     for i, line in enumerate(lines):
-        text = line.strip()
-        for level in ("Severe", "Fatal"):
-            if re.match(rf"^\*\*\s*{level}\s*\*\*", text):
-                message = re.sub(rf"^\*\*\s*{level}\s*\*\*\s*", "", text)
-                # EnergyPlus continues a message on "**   ~~~   **" lines; the first one
-                # usually names the object at fault.
-                if i + 1 < len(lines) and "~~~" in lines[i + 1]:
-                    message += " " + re.sub(r"^\s*\*\*\s*~~~\s*\*\*\s*", "", lines[i + 1]).strip()
-                found[level] = f"{level}: {message}"
-    return " | ".join(found[level] for level in ("Severe", "Fatal") if level in found)
+        m = re.match(r"^\s*\*\*\s*(Severe|Fatal)\s*\*\*\s*(.*)$", line)
+        if m is None:
+            continue
+        message = m.group(2).strip()
+        # EnergyPlus continues a message on "**   ~~~   **" lines; the first one usually
+        # names the object at fault.
+        if i + 1 < len(lines) and re.match(r"^\s*\*\*\s*~~~\s*\*\*", lines[i + 1]):
+            message += " " + re.sub(r"^\s*\*\*\s*~~~\s*\*\*\s*", "", lines[i + 1]).strip()
+        if m.group(1) == "Severe":
+            severe.append(message)
+        else:
+            fatal = message
+    parts = []
+    if len(severe) > 1:
+        parts.append(f"Severe (first of {len(severe)}): {severe[0]}")
+    if severe:
+        parts.append(f"Severe: {severe[-1]}")
+    if fatal:
+        parts.append(f"Fatal: {fatal}")
+    return " | ".join(parts)
 
 
 @dataclass(frozen=True)
