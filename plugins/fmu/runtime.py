@@ -1,0 +1,244 @@
+"""Per-process FMU state: the extracted FMU and its instances, built once and reused.
+
+A simulator object is pickled to every worker, possibly more than once; all copies of one FMU in
+a process share one extracted folder and a small pool of instances (one per concurrently
+running thread), so extraction and instantiation happen once per process, not per evaluation.
+"""
+
+from __future__ import annotations
+
+import atexit
+import collections
+import ctypes
+import io
+import itertools
+import os
+import shutil
+import tempfile
+import threading
+import zipfile
+from pathlib import Path
+
+# How often this process extracted an FMU, instantiated one, and reset an instance for reuse.
+# Tests and benchmarks read them through process_counts() to prove the reuse.
+_counts = collections.Counter()
+
+_lock = threading.Lock()
+_extracted: dict[str, Path] = {}
+_idle: dict[tuple[str, str], list["FMURuntime"]] = {}
+_owner_pid = os.getpid()
+
+_LOG_LINES_KEPT = 20
+_STATUS_LABELS = ("OK", "warning", "discard", "error", "fatal", "pending")
+
+
+def process_counts() -> dict[str, int]:
+    """Extractions, instantiations and resets done in this process so far."""
+    return {key: _counts[key] for key in ("extractions", "instantiations", "resets")}
+
+
+class FMIStatusError(Exception):
+    """An FMI function returned error or fatal; ``fatal`` means the instance is unusable."""
+
+    def __init__(self, function: str, status: int, model_time: float | None, log: list[str]):
+        self.function = function
+        self.status = status
+        self.fatal = status >= 4
+        label = _STATUS_LABELS[status] if 0 <= status < len(_STATUS_LABELS) else f"status {status}"
+        where = f" in the step from t={model_time:g} s" if function == "fmi2DoStep" and model_time is not None else (f" at t={model_time:g} s" if model_time is not None else "")
+        detail = f": {log[-1]}" if log else ""
+        super().__init__(f"{function} returned {label}{where}{detail}")
+
+
+class FMURuntime:
+    """One extracted FMU and one FMI 2.0 instance of it, with raw entry points for the step loop."""
+
+    def __init__(self, digest: str, fmu_bytes: bytes, fmi_type: str):
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (
+            FMU2Model,
+            FMU2Slave,
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+        )
+        from fmpy.model_description import read_model_description
+
+        self.digest = digest
+        self.fmi_type = fmi_type
+        self.unzip_dir = _extract(digest, fmu_bytes)
+        self.description = read_model_description(str(self.unzip_dir), validate=False)
+        self.log: collections.deque[str] = collections.deque(maxlen=_LOG_LINES_KEPT)
+
+        # The FMU's printf-style messages are formatted by fmpy's native proxy, which forwards
+        # them to one process-wide logger; componentEnvironment tells whose message it is. We
+        # keep the text so a failed run can say in the FMU's own words what went wrong.
+        self._log_key = next(_log_keys)
+        _logs[self._log_key] = self.log
+        self._callbacks = fmi2CallbackFunctions()
+        self._callbacks.logger = _process_logger()
+        self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        self._callbacks.componentEnvironment = self._log_key
+        _add_logger_proxy(self._callbacks)
+
+        if fmi_type == "CoSimulation":
+            interface, cls = self.description.coSimulation, FMU2Slave
+        else:
+            interface, cls = self.description.modelExchange, FMU2Model
+        self.fmu = cls(
+            guid=self.description.guid,
+            modelIdentifier=interface.modelIdentifier,
+            unzipDirectory=str(self.unzip_dir),
+            instanceName="simgap",
+        )
+        self.fmu.instantiate(callbacks=self._callbacks, loggingOn=False)
+        _counts["instantiations"] += 1
+        self.component = self.fmu.component
+        self.used = False
+        self.prepared_cases: collections.OrderedDict = collections.OrderedDict()
+
+        # Fresh function objects (dll[name] does not share fmpy's) typed with plain addresses,
+        # so the step loop passes precomputed integers instead of building ctypes pointers.
+        dll = self.fmu.dll
+        self.set_real = _function(dll, "fmi2SetReal", ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
+        self.get_real = _function(dll, "fmi2GetReal", ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
+        if fmi_type == "CoSimulation":
+            self.do_step = _function(dll, "fmi2DoStep", ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
+
+    def check(self, function: str, status: int, model_time: float | None = None) -> None:
+        if status > 1:
+            raise FMIStatusError(function, status, model_time, list(self.log))
+
+    def begin_run(self) -> None:
+        """Bring the instance back to 'instantiated' (fmi2Reset after a previous run)."""
+        self.log.clear()
+        _claim_native_logger()
+        if self.used:
+            status = self._reset()
+            self.check("fmi2Reset", status)
+            _counts["resets"] += 1
+        self.used = True
+
+    def _reset(self) -> int:
+        return self.fmu._functions["fmi2Reset"](self.component)
+
+    def free(self) -> None:
+        try:
+            self.fmu.freeInstance()
+        except Exception:
+            pass
+        _logs.pop(self._log_key, None)
+
+
+# -------------------------------------------------------------------------------------------
+# logging
+
+_logs: dict[int, collections.deque] = {}
+_log_keys = itertools.count(1)
+_native_logger = None
+
+
+def _process_logger():
+    global _native_logger
+    if _native_logger is None:
+        from fmpy.fmi2 import fmi2CallbackLoggerTYPE
+
+        _native_logger = fmi2CallbackLoggerTYPE(_dispatch_log)
+    return _native_logger
+
+
+def _dispatch_log(env, instance_name, status, category, message) -> None:
+    try:  # never let an exception cross back into C
+        text = message.decode("utf-8", "replace") if message else ""
+        log = _logs.get(env or 0)
+        if log is not None:
+            log.append(text)
+    except Exception:
+        pass
+
+
+def _add_logger_proxy(callbacks) -> None:
+    from fmpy.logging import addLoggerProxy
+
+    addLoggerProxy(ctypes.byref(callbacks))
+
+
+def _claim_native_logger() -> None:
+    # fmpy's proxy keeps one global target; other fmpy users in the process may have redirected
+    # it since our instance was created, so point it back at our dispatcher before each run.
+    from fmpy.fmi2 import fmi2CallbackFunctions
+
+    probe = fmi2CallbackFunctions()
+    probe.logger = _process_logger()
+    _add_logger_proxy(probe)
+
+
+def _function(dll, name: str, *argtypes):
+    function = dll[name]
+    function.argtypes = argtypes
+    function.restype = ctypes.c_int
+    return function
+
+
+def _extract(digest: str, fmu_bytes: bytes) -> Path:
+    with _lock:
+        folder = _extracted.get(digest)
+        if folder is not None and folder.is_dir():
+            return folder
+        folder = Path(tempfile.mkdtemp(prefix="simgap-fmu-"))
+        with zipfile.ZipFile(io.BytesIO(fmu_bytes)) as archive:
+            archive.extractall(folder)
+        _extracted[digest] = folder
+        _counts["extractions"] += 1
+        return folder
+
+
+def acquire(digest: str, fmu_bytes: bytes, fmi_type: str) -> FMURuntime:
+    """An idle runtime for this FMU, or a new one (extracting the FMU if this process has not)."""
+    _forget_parent_state()
+    with _lock:
+        pool = _idle.get((digest, fmi_type))
+        if pool:
+            return pool.pop()
+    return FMURuntime(digest, fmu_bytes, fmi_type)
+
+
+def release(runtime: FMURuntime, *, broken: bool = False) -> None:
+    """Return a runtime to the pool, or free it if its instance cannot be reused."""
+    if broken:
+        runtime.free()
+        return
+    with _lock:
+        _idle.setdefault((runtime.digest, runtime.fmi_type), []).append(runtime)
+
+
+def discard(digest: str) -> None:
+    """Free the idle instances of one FMU and delete its extracted folder."""
+    with _lock:
+        runtimes = [r for key, pool in list(_idle.items()) if key[0] == digest for r in _idle.pop(key)]
+        folder = _extracted.pop(digest, None)
+    for runtime in runtimes:
+        runtime.free()
+    if folder is not None:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def _forget_parent_state() -> None:
+    # A forked child inherits the parent's pool; the parent deletes the folders at its exit, so
+    # the child starts its own.
+    global _owner_pid
+    if os.getpid() != _owner_pid:
+        with _lock:
+            _idle.clear()
+            _extracted.clear()
+            _owner_pid = os.getpid()
+
+
+@atexit.register
+def _remove_extracted_folders() -> None:
+    if os.getpid() != _owner_pid:
+        return
+    for folder in list(_extracted.values()):
+        shutil.rmtree(folder, ignore_errors=True)
+    _extracted.clear()
