@@ -188,6 +188,7 @@ def _match(
 def _frame(columns: dict[str, pd.Series], chosen: dict[str, _Series]) -> pd.DataFrame:
     df = pd.concat(columns, axis=1) if len(columns) > 1 else pd.DataFrame(columns)
     df = df.sort_index()
+    df.index = pd.DatetimeIndex(df.index).as_unit("ns")
     df.index.name = "time"
     df.attrs["units"] = {c: s.unit for c, s in chosen.items()}
     df.attrs["frequency"] = {c: s.frequency for c, s in chosen.items()}
@@ -411,9 +412,20 @@ def _read_csv(
         available.append(_Series((m.group(1) or "").strip(), m.group(2).strip(), freq, m.group(3), position))
     chosen = _match(source, available, requested, frequency)
 
+    # The CSV concatenates every environment (sizing passes, run periods) without a marker:
+    # a new one starts where the calendar jumps. Keep the last, as the ESO reader does.
+    parsed = [(_CSV_STAMP.match(row[0]) if row else None) for row in rows]
+    start, previous = 0, None
+    for i, m in enumerate(parsed):
+        if m is None:
+            continue
+        month_day = (int(m.group(1)), int(m.group(2)))
+        if previous is not None and not _same_or_next_day(previous, month_day):
+            start = i
+        previous = month_day
+    rows, parsed = rows[start:], parsed[start:]
     stamps, current_year, last_month = [], year, None
-    for row in rows:
-        m = _CSV_STAMP.match(row[0]) if row else None
+    for m in parsed:
         if not m:
             stamps.append(None)
             continue
@@ -435,3 +447,17 @@ def _read_csv(
         index = pd.DatetimeIndex([p[0] for p in pairs])
         columns[column] = pd.Series([p[1] for p in pairs], index=index, dtype=float, name=column)
     return _frame(columns, chosen)
+
+
+_DAYS_IN_MONTH = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
+
+
+def _same_or_next_day(a: tuple[int, int], b: tuple[int, int]) -> bool:
+    if a == b:
+        return True
+    month, day = a
+    if day < _DAYS_IN_MONTH[month - 1] and b == (month, day + 1):
+        return True
+    # Month ends; 28 February may be followed by 1 March in a year without 29 February.
+    last_day = day == _DAYS_IN_MONTH[month - 1] or (month, day) == (2, 28)
+    return last_day and b == (month % 12 + 1, 1)
