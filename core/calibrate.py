@@ -58,16 +58,6 @@ def _run_id(prepared: Prepared) -> str:
     return f"{datetime.now().strftime('%Y%m%d-%H%M%S')}-{name}"
 
 
-def _best(store: RunStore) -> dict[str, float]:
-    table = store.table()
-    ok = np.asarray(table.column("status").to_pylist()) == STATUS_OK
-    out = {}
-    for col in store.error_columns:
-        values = np.asarray(table.column(ERROR + col).to_numpy(zero_copy_only=False), dtype=float)[ok]
-        out[col] = float(np.nanmin(values)) if values.size and np.isfinite(values).any() else math.nan
-    return out
-
-
 def calibrate(
     prepared: Prepared,
     *,
@@ -101,7 +91,6 @@ def calibrate(
         optimiser = prepared.make_optimiser(budget.evaluations)
         generation = 0
         next_id = 0
-        failed = 0
         loop_start = time.perf_counter()
         while True:
             reason = budget.exhausted(len(store), generation)
@@ -120,15 +109,14 @@ def calibrate(
             if generation == 0:
                 progress.start(budget.total(len(X)), f"{len(prepared.space.names)} parameters, {len(setup.objective_columns)} objectives")
 
-            def on_done(rows, _gen=generation, _by_id=by_id):
-                nonlocal failed
+            def on_done(rows, _gen=generation, _by_id=by_id, _total=budget.total(len(X))):
                 store.append(rows, _gen, _by_id)
-                failed += sum(r["status"] != STATUS_OK for r in rows)
-                progress.update(generation=_gen, done=len(store), total=budget.total(len(X)), best=_best(store), failed=failed)
+                progress.update(generation=_gen, done=len(store), total=_total, best=store.best, failed=store.failed)
 
             rows = executor.run(setup, handle, jobs, on_done=on_done)
             F = np.array([r["objectives"] for r in rows], dtype=float)
             feasible = np.array([r["status"] == STATUS_OK for r in rows])
+            store.flush()
             optimiser.tell(X, F, feasible)
             generation += 1
             if on_generation is not None:

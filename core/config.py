@@ -147,6 +147,9 @@ class SimulatorConfig(Section):
     options: dict[str, Any] = Field(default_factory=dict)
     inputs: dict[str, str] = Field(default_factory=dict)
     """Model input variable -> measured column fed to it."""
+    initial: dict[str, str] = Field(default_factory=dict)
+    """Model parameter -> measured column whose value at each simulation start it takes
+    (initial states such as a zone temperature, so each segment starts where the data does)."""
 
 
 class Parameter(Section):

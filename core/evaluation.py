@@ -90,6 +90,8 @@ class EvaluationSetup:
     targets: list[TargetData]
     slots: list[MetricSlot]
     timeout_s: float | None = None
+    case_parameters: list[dict[str, float]] | None = None
+    """Per case, parameter values taken from the data (initial states); tuners override none."""
     columns: list[str] = field(init=False)
 
     def __post_init__(self):
@@ -116,7 +118,9 @@ def objective_vector(setup: EvaluationSetup, errors: dict[str, float] | None) ->
 def _simulate_all(setup: EvaluationSetup, params: dict[str, float], deadline: float | None):
     """Simulated series per target, concatenated over cases, checked for length and NaN."""
     pieces: dict[str, list[np.ndarray]] = {}
-    for case in setup.cases:
+    for i, case in enumerate(setup.cases):
+        if setup.case_parameters:
+            params = {**setup.case_parameters[i], **params}
         result = setup.simulator.simulate(params, case, deadline)
         for name in case.outputs:
             if name not in result:

@@ -15,6 +15,7 @@ import json
 import math
 import os
 import shutil
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -45,16 +46,24 @@ class RunStore:
     """Appends evaluations to ``evaluations.parquet`` as they return.
 
     Parquet files cannot be appended to, so the whole log is rewritten to a temporary file and
-    renamed over the old one: a crash leaves the previous complete file, never a torn one.
+    renamed over the old one: a crash leaves the previous complete file, never a torn one. A
+    rewrite costs a few milliseconds, so when results arrive faster than ``flush_interval_s``
+    the rewrite waits for the next result or the end of the generation (:meth:`flush`).
     """
 
-    def __init__(self, run_dir: Path, run_id: str, parameter_names, error_columns, objective_columns):
+    def __init__(self, run_dir: Path, run_id: str, parameter_names, error_columns, objective_columns, flush_interval_s: float = 0.2):
         self.dir = Path(run_dir)
         self.run_id = run_id
         self.parameter_names = list(parameter_names)
         self.error_columns = list(error_columns)
         self.objective_columns = list(objective_columns)
-        self._columns: dict[str, list] = {name: [] for name in self.column_names}
+        self.flush_interval_s = flush_interval_s
+        self._batches: list[pa.RecordBatch] = []
+        self._rows = 0
+        self._unflushed = False
+        self._last_flush = 0.0
+        self.best = {c: math.inf for c in self.error_columns}
+        self.failed = 0
 
     @property
     def column_names(self) -> list[str]:
@@ -67,10 +76,10 @@ class RunStore:
         )
 
     def __len__(self) -> int:
-        return len(self._columns["eval_id"])
+        return self._rows
 
     def append(self, rows: list[dict], generation: int, params_by_id: dict[int, dict[str, float]]) -> None:
-        c = self._columns
+        c: dict[str, list] = {name: [] for name in self.column_names}
         for row in rows:
             c["run_id"].append(self.run_id)
             c["eval_id"].append(int(row["eval_id"]))
@@ -82,19 +91,34 @@ class RunStore:
                 c[PARAM + p].append(float(params[p]))
             errors = row["errors"] or {}
             for col in self.error_columns:
-                c[ERROR + col].append(float(errors.get(col, math.nan)))
+                value = float(errors.get(col, math.nan))
+                c[ERROR + col].append(value)
+                if value < self.best[col]:
+                    self.best[col] = value
             for col, value in zip(self.objective_columns, row["objectives"]):
                 c[OBJECTIVE + col].append(float(value))
             for key in ("sim_time_s", "metric_time_s", "wall_time_s"):
                 c[key].append(float(row[key]))
             c["worker"].append(row["worker"])
-        self.flush()
+            self.failed += row["errors"] is None
+        self._batches.append(pa.RecordBatch.from_pydict(c, schema=self._schema()))
+        self._rows += len(rows)
+        self._unflushed = True
+        if time.monotonic() - self._last_flush >= self.flush_interval_s:
+            self.flush()
+
+    def _schema(self) -> pa.Schema:
+        types = {"run_id": pa.string(), "eval_id": pa.int64(), "generation": pa.int64(), "status": pa.string(), "error": pa.string(), "worker": pa.string()}
+        return pa.schema([(name, types.get(name, pa.float64())) for name in self.column_names])
 
     def table(self) -> pa.Table:
-        return pa.table(self._columns)
+        return pa.Table.from_batches(self._batches, schema=self._schema())
 
     def flush(self) -> None:
-        _atomic_write_table(self.table(), self.dir / EVALUATIONS)
+        if self._unflushed or not (self.dir / EVALUATIONS).exists():
+            _atomic_write_table(self.table(), self.dir / EVALUATIONS)
+            self._unflushed = False
+            self._last_flush = time.monotonic()
 
     def frame(self) -> pd.DataFrame:
         return self.table().to_pandas()

@@ -11,7 +11,6 @@ import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 from pydantic import ValidationError
 
@@ -103,6 +102,13 @@ def check_model(wf: LoadedWorkflow, simulator: Simulator) -> None:
         elif not var.settable:
             why = var.why_not_settable or f"a {var.kind}, not a settable parameter"
             problems.append((("parameters", i, "name"), f"{p.name!r} ({why})"))
+    for name in m.simulator.initial:
+        var = variables.get(name)
+        if var is None or not var.settable:
+            why = "no such variable" if var is None else (var.why_not_settable or f"a {var.kind}")
+            problems.append((("simulator", "initial", name), f"initial-value parameter {name!r} ({why})"))
+        elif name in {p.name for p in m.parameters}:
+            problems.append((("simulator", "initial", name), f"{name!r} is a tuner parameter and cannot also take its value from the data"))
     for name in m.simulator.inputs:
         var = variables.get(name)
         if var is None:
@@ -122,9 +128,10 @@ def check_model(wf: LoadedWorkflow, simulator: Simulator) -> None:
 def _check_columns(wf: LoadedWorkflow, data: MeasuredData) -> None:
     cols = set(data.frame.columns)
     available = ", ".join(map(str, data.frame.columns))
-    for name, column in wf.model.simulator.inputs.items():
-        if column not in cols:
-            raise wf.error(("simulator", "inputs", name), f"measured column {column!r} not in the data; columns: {available}")
+    for section in ("inputs", "initial"):
+        for name, column in getattr(wf.model.simulator, section).items():
+            if column not in cols:
+                raise wf.error(("simulator", section, name), f"measured column {column!r} not in the data; columns: {available}")
     for i, t in enumerate(wf.model.targets):
         for column in t.measured_columns:
             if column not in cols:
@@ -136,7 +143,7 @@ def _cases(wf: LoadedWorkflow, data: MeasuredData, segs: list[Segment], token: s
     m = wf.model
     outputs = tuple(dict.fromkeys(v for t in m.targets for v in t.simulated_variables))
     input_cols = list(m.simulator.inputs.values())
-    cases, rows = [], []
+    cases, rows, initial = [], [], []
     for seg in segs:
         sim_rows = frame.loc[seg.sim_start : seg.end]
         filled, gap_notes = input_series(sim_rows, input_cols) if input_cols else (sim_rows[[]], [])
@@ -155,12 +162,19 @@ def _cases(wf: LoadedWorkflow, data: MeasuredData, segs: list[Segment], token: s
             )
         )
         rows.append(out_rows)
-    return cases, pd.concat(rows)
+        values = {}
+        for param, col in m.simulator.initial.items():
+            valid = sim_rows[col].dropna()
+            if valid.empty:
+                raise wf.error(("simulator", "initial", param), f"column {col!r} has no value in {seg.name} to start from")
+            values[param] = float(valid.iloc[0])
+        initial.append(values)
+    return cases, pd.concat(rows), initial
 
 
 def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes) -> EvaluationSetup:
     token = uuid.uuid4().hex[:12]
-    cases, scored = _cases(wf, data, segs, token, notes)
+    cases, scored, initial = _cases(wf, data, segs, token, notes)
     time = scored.index.to_numpy(dtype="datetime64[ns]")
     targets, slots = [], []
     for i, t in enumerate(wf.model.targets):
@@ -179,7 +193,15 @@ def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes)
                 bins = Bins.of(time, int(parse_duration(spec.resolution).value))
             slots.append(MetricSlot(target=i, key=spec.key, metric=metric, objective=spec.objective, bins=bins))
     timeout = parse_duration(wf.model.execution.timeout).total_seconds()
-    return EvaluationSetup(token=token, simulator=simulator, cases=cases, targets=targets, slots=slots, timeout_s=timeout)
+    return EvaluationSetup(
+        token=token,
+        simulator=simulator,
+        cases=cases,
+        targets=targets,
+        slots=slots,
+        timeout_s=timeout,
+        case_parameters=initial if any(initial) else None,
+    )
 
 
 def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = None) -> Prepared:
@@ -220,4 +242,3 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
     return Prepared(wf, registry, data, simulator, space, training, validation, problem, notes)
 
 
-__all__ = ["Prepared", "prepare", "check_model", "cache_dir", "np"]

@@ -1,0 +1,48 @@
+"""Shared fixtures: paths into the repository and workflow variants written to tmp_path."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+SHARED = REPO.parent / "shared"
+QUICKSTART = REPO / "workflows" / "quickstart.yaml"
+
+
+def needs_shared(sub: str = "") -> Path:
+    """Path into ../shared, skipping the test when the folder is not beside the repository."""
+    path = SHARED / sub
+    if not path.exists():
+        pytest.skip(f"{path} not present (../shared is optional for the core suite)")
+    return path
+
+
+def absolutise(text: str, base: Path) -> str:
+    """Make the relative paths of a workflow (lines 'file:', 'source:', 'fmu:', 'output:') absolute."""
+
+    def repl(m):
+        value = m.group(3).strip().strip("\"'")
+        return f"{m.group(1)}{m.group(2)} {(base / value).resolve()}"
+
+    return re.sub(r"^(\s*)(file:|source:|fmu:|output:)\s*(\S+)", repl, text, flags=re.M)
+
+
+@pytest.fixture
+def quickstart_text() -> str:
+    return absolutise(QUICKSTART.read_text(), QUICKSTART.parent)
+
+
+@pytest.fixture
+def write_workflow(tmp_path):
+    """Write workflow text to tmp_path (with output under tmp_path) and return its path."""
+
+    def write(text: str, name: str = "workflow.yaml") -> Path:
+        text = re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M)
+        path = tmp_path / name
+        path.write_text(text)
+        return path
+
+    return write
