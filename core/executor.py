@@ -16,6 +16,7 @@ log = logging.getLogger(__name__)
 # A task that has not answered after (evaluations × timeout × this factor + grace) is given up.
 HARD_TIMEOUT_FACTOR = 1.5
 HARD_TIMEOUT_GRACE_S = 30.0
+POLL_S = 1.0
 
 
 class DaskExecutor:
@@ -103,7 +104,10 @@ class DaskExecutor:
         rows: dict[int, dict] = {}
         pending = set(futures)
         while pending:
-            done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
+            try:
+                done, pending = wait(pending, timeout=POLL_S, return_when="FIRST_COMPLETED")
+            except TimeoutError:  # nothing finished within the poll interval; check deadlines
+                done = set()
             for fut in done:
                 chunk, _ = futures[fut]
                 try:

@@ -34,7 +34,7 @@ class ParameterSpace:
         """Unit-cube points (n, d) -> parameter values (n, d)."""
         lo, hi = self._transformed_bounds()
         v = lo + np.clip(x, 0.0, 1.0) * (hi - lo)
-        return np.where(self.log, np.exp(v), v)
+        return np.where(self.log, np.exp(np.where(self.log, v, 0.0)), v)
 
     def to_unit(self, values: np.ndarray) -> np.ndarray:
         lo, hi = self._transformed_bounds()

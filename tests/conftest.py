@@ -30,6 +30,12 @@ def absolutise(text: str, base: Path) -> str:
     return re.sub(r"^(\s*)(file:|source:|fmu:|output:)\s*(\S+)", repl, text, flags=re.M)
 
 
+def set_budget(text: str, evaluations: int, population: int = 40) -> str:
+    """A workflow text with another evaluation budget and population size."""
+    text = re.sub(r"budget: \{evaluations: \d+\}", f"budget: {{evaluations: {evaluations}}}", text)
+    return text.replace("options: {population: 40}", f"options: {{population: {population}}}")
+
+
 @pytest.fixture
 def quickstart_text() -> str:
     return absolutise(QUICKSTART.read_text(), QUICKSTART.parent)

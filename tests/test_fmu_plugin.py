@@ -312,3 +312,36 @@ def test_registered_as_the_fmu_simulator():
     from simgap.plugin_host import get_registry
 
     assert get_registry().get("simulator", "fmu") is FMUSimulator
+
+
+@pytest.fixture
+def compiled_step_loop(monkeypatch):
+    """A process state that compiles the numba step loop on the first run."""
+    from simgap.plugins.fmu import steploop
+
+    monkeypatch.setattr(steploop, "_state", steploop._ProcessState())
+    monkeypatch.setattr(steploop, "COMPILE_AFTER_SECONDS", 0.0)
+    return steploop
+
+
+def test_compiled_step_loop_matches_the_python_loop(fmu_path, compiled_step_loop):
+    from simgap.plugins.fmu import steploop
+
+    case = make_case(key="compiled", days=2.0, spacing=300.0)
+    params = {**TRUTH, "UA_rad": 500.0}
+    with pytest.MonkeyPatch.context() as python_only:
+        python_only.setattr(steploop, "COMPILE_AFTER_SECONDS", float("inf"))
+        python_only.setattr(steploop, "_state", steploop._ProcessState())
+        expected = make_simulator(fmu_path).simulate(params, case)
+        assert not steploop.compiled_loop_in_use()
+    sim = make_simulator(fmu_path)
+    result = sim.simulate(params, case)
+    assert compiled_step_loop.compiled_loop_in_use()
+    for name in case.outputs:
+        np.testing.assert_array_equal(result[name], expected[name])
+
+    with pytest.raises(simgap.SimulationFailed, match="fmi2DoStep returned error.*explicit integration unstable"):
+        sim.simulate({**TRUTH, "C_zone": 2e3}, case)
+    with pytest.raises(simgap.SimulationTimeout, match="deadline passed"):
+        sim.simulate(TRUTH, case, deadline=time.monotonic() - 1.0)
+    np.testing.assert_array_equal(sim.simulate(params, case)["T_zone"], expected["T_zone"])

@@ -1,0 +1,112 @@
+"""Failing simulations are logged and the run goes on; a run on an external dask scheduler."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import simgap
+from simgap.cli import main
+from tests.conftest import set_budget
+
+
+def test_failing_simulations_are_logged_and_the_run_completes(quickstart_text, write_workflow):
+    # explicit Euler in the model diverges when C_zone is this small for its 60 s sub-step
+    text = quickstart_text.replace("{name: C_zone, min: 5.0e6, max: 8.0e7, scale: log", "{name: C_zone, min: 1.0e3, max: 8.0e7, scale: log")
+    path = write_workflow(set_budget(text, 160))
+    result = CliRunner().invoke(main, ["run", str(path), "--workers", "2"])
+    assert result.exit_code == 0, result.output
+    run = simgap.load_run(path.parent / "runs")
+    ev = run.evaluations
+    assert len(ev) == 160 and ev["eval_id"].is_unique
+    failed = ev[ev["status"] == "failed"]
+    assert len(failed) >= 3
+    assert failed["error"].str.contains("physical range").all(), failed["error"].iloc[0]
+    assert failed["error.T_zone.rmse"].isna().all()
+    assert (failed["objective.T_zone.rmse"] == float("inf")).all()
+    assert run.summary["failed"] == len(failed)
+    assert (run.pareto["status"] == "ok").all()
+
+
+def test_simulation_timeout_is_a_failed_evaluation(quickstart_text, write_workflow):
+    text = set_budget(quickstart_text, 8, population=4).replace("timeout: 30s", "timeout: 0.0001s")
+    path = write_workflow(text)
+    result = CliRunner().invoke(main, ["run", str(path), "--workers", "1"])
+    assert result.exit_code == 0, result.output
+    ev = simgap.load_run(path.parent / "runs").evaluations
+    assert (ev["status"] == "failed").all()
+    assert ev["error"].str.startswith("timeout").all()
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def external_cluster(tmp_path):
+    """A dask scheduler and two single-threaded workers, each its own process, on 127.0.0.1."""
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    bindir = Path(sys.executable).parent
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    procs = [
+        subprocess.Popen(
+            [str(bindir / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=tmp_path,
+        )
+    ]
+    for i in range(2):
+        procs.append(
+            subprocess.Popen(
+                [str(bindir / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--no-dashboard",
+                 "--local-directory", str(tmp_path / f"w{i}")],
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=tmp_path,
+            )
+        )
+    from distributed import Client
+
+    deadline = time.monotonic() + 60
+    while True:
+        try:
+            with Client(address, timeout="2s") as client:
+                client.wait_for_workers(2, timeout=30)
+            break
+        except (OSError, TimeoutError):
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.5)
+    yield address
+    for p in procs[::-1]:
+        p.kill()  # test processes: no state worth a graceful shutdown
+    for p in procs:
+        try:
+            p.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            p.kill()
+
+
+def test_calibration_on_an_external_scheduler(quickstart_text, write_workflow, external_cluster):
+    path = write_workflow(set_budget(quickstart_text, 120))
+    result = CliRunner().invoke(main, ["run", str(path), "--scheduler", external_cluster])
+    assert result.exit_code == 0, result.output
+    assert "2 dask workers (tcp://127.0.0.1" in result.output
+    run = simgap.load_run(path.parent / "runs")
+    assert len(run.evaluations) == 120
+    assert run.evaluations["worker"].nunique() == 2
+    assert len(run.pareto) >= 1
+
+
+def test_unreachable_scheduler_is_a_clear_error(quickstart_text, write_workflow):
+    path = write_workflow(set_budget(quickstart_text, 40))
+    result = CliRunner().invoke(main, ["run", str(path), "--scheduler", f"tcp://127.0.0.1:{_free_port()}"])
+    assert result.exit_code == 2
+    assert "cannot reach the dask scheduler" in result.output

@@ -1,0 +1,81 @@
+"""The quickstart, end to end on real dask workers with the real FMU."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+
+import simgap
+from simgap.cli import main
+from tests.conftest import QUICKSTART, absolutise
+
+
+@pytest.fixture(scope="module")
+def quickstart_run(tmp_path_factory):
+    """One quickstart run shared by the tests below (it is the expensive part)."""
+    tmp = tmp_path_factory.mktemp("quickstart")
+    text = absolutise(QUICKSTART.read_text(), QUICKSTART.parent)
+    text = re.sub(r"^output:.*$", f"output: {tmp / 'runs'}", text, flags=re.M)
+    path = tmp / "quickstart.yaml"
+    path.write_text(text)
+    result = CliRunner().invoke(main, ["run", str(path), "--workers", "2"])
+    assert result.exit_code == 0, result.output
+    return simgap.load_run(tmp / "runs"), result.output
+
+
+def test_writes_every_result_file(quickstart_run):
+    run, output = quickstart_run
+    for name in ("evaluations.parquet", "pareto.parquet", "summary.json", "workflow.yaml"):
+        assert (run.dir / name).is_file(), name
+    for name in ("front.png", "convergence.png", "series_knee.png"):
+        assert (run.dir / "plots" / name).stat().st_size > 10_000, name
+    assert "knee:" in output and "results:" in output
+
+
+def test_log_has_exactly_one_row_per_evaluation(quickstart_run):
+    run, _ = quickstart_run
+    ev = run.evaluations
+    assert len(ev) == run.summary["evaluations"] >= 1200
+    assert ev["eval_id"].is_unique
+    assert sorted(ev["eval_id"]) == list(range(len(ev)))
+    assert set(ev["status"]) <= {"ok", "failed"}
+    assert ev.groupby("generation").size().eq(40).all()
+    assert {"param.C_zone", "error.T_zone.rmse", "objective.P_el.cvrmse", "wall_time_s", "worker"} <= set(ev.columns)
+    assert ev["worker"].nunique() == 2  # both dask worker processes did work
+
+
+def test_front_is_non_dominated_and_validated(quickstart_run):
+    run, _ = quickstart_run
+    front = run.pareto
+    assert len(front) >= 5
+    F = front[["objective.T_zone.rmse", "objective.P_el.cvrmse"]].to_numpy()
+    for i in range(len(F)):
+        others = np.delete(F, i, axis=0)
+        assert not np.any(np.all(others <= F[i], axis=1) & np.any(others < F[i], axis=1))
+    assert front["knee"].sum() == 1
+    assert front["validation.T_zone.rmse"].notna().all()
+    assert (front["validation.P_el.cvrmse"] < 0.5).all()
+
+
+def test_summary_reports_timing_and_plugins(quickstart_run):
+    run, _ = quickstart_run
+    s = json.loads((run.dir / "summary.json").read_text())
+    assert s["workers"] == 2
+    assert s["timing"]["median_simulation_s"] > 0
+    assert s["plugins"]["simulator:fmu"].startswith("simgap")
+    assert set(s["featured"]) == {"best T_zone.rmse", "best P_el.cvrmse", "knee"}
+
+
+def test_load_run_accepts_run_dir_and_parent(quickstart_run):
+    run, _ = quickstart_run
+    again = simgap.load_run(run.dir)
+    assert len(again.evaluations) == len(run.evaluations)
+    assert isinstance(again.evaluations, pd.DataFrame)
+    assert again.parameter_names == ["C_zone", "UA_env", "UA_rad", "eta_carnot"]
+    with pytest.raises(simgap.SimgapError, match="not a simgap run directory"):
+        simgap.load_run(run.dir / "plots")
