@@ -162,7 +162,8 @@ static void substep(double *r, State *s, double h) {
     /* performance map at the evaporator's mean air temperature and the condenser outlet */
     double fan = defrosting ? 0.0 : fmin(fmax(R(nSpeedFanEva_1_0), 0.0), 1.0);
     double mAir = fmax(fan, 0.1) * R(mHC_flow_nominal);
-    double airDrop = 0.5 * s->QEvaLast / CP_AIR * (1.0 / mAir - 1.0 / R(mEvaTable_flow));
+    /* while defrosting the evaporator is the condenser: no air-side cooling */
+    double airDrop = defrosting ? 0.0 : 0.5 * s->QEvaLast / CP_AIR * (1.0 / mAir - 1.0 / R(mEvaTable_flow));
     int i, j;
     double wi, wj;
     bracket(T_ODA_DEGC, N_ODA, TOdaDegC - airDrop, &i, &wi);
