@@ -105,6 +105,16 @@ class FMURuntime:
         self.get_real = _function(dll, "fmi2GetReal", ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
         if fmi_type == "CoSimulation":
             self.do_step = _function(dll, "fmi2DoStep", ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
+        self.chunk_steps = 1000  # adapted by the step loop to about steploop.CHUNK_SECONDS
+        self._function_addresses = None
+
+    def function_addresses(self) -> tuple:
+        """fmi2SetReal, fmi2GetReal, fmi2DoStep for the compiled step loop."""
+        if self._function_addresses is None:
+            from .steploop import function_addresses
+
+            self._function_addresses = function_addresses(self.fmu.dll)
+        return self._function_addresses
 
     def check(self, function: str, status: int, model_time: float | None = None) -> None:
         if status > 1:

@@ -22,6 +22,7 @@ from pydantic import Field, model_validator
 import simgap
 
 from . import runtime as fmu_runtime
+from . import steploop
 from .build import build_fmu
 
 _SETTABLE_VARIABILITIES = ("fixed", "tunable")
@@ -161,11 +162,8 @@ class FMUSimulator(simgap.Simulator):
             rt.check("fmi2SetReal", rt.set_real(component, input_vr, n_inputs, inputs.ctypes.data), prepared.model_start)
         rt.check("fmi2ExitInitializationMode", fmi["fmi2ExitInitializationMode"](component), prepared.model_start)
 
-        if deadline is None:
-            deadline = math.inf
+        steploop.run(rt, prepared, math.inf if deadline is None else deadline)
         n = prepared.n_steps
-        self._step_loop(rt, prepared, 0, n - 1, prepared.step_size, deadline)
-        self._step_loop(rt, prepared, n - 1, n, prepared.last_step_size, deadline)
         # the last grid point: inputs applied, outputs read, no further step
         outputs = prepared.output_buffer
         row_in = inputs.ctypes.data + n * inputs.strides[0]
@@ -175,34 +173,6 @@ class FMUSimulator(simgap.Simulator):
         rt.check("fmi2GetReal", rt.get_real(component, prepared.output_vr.ctypes.data, outputs.shape[1], row_out), prepared.model_stop)
         rt.check("fmi2Terminate", fmi["fmi2Terminate"](component), prepared.model_stop)
         return self._aligned_outputs(prepared, case)
-
-    @staticmethod
-    def _step_loop(rt, prepared: _PreparedCase, first: int, last: int, step: float, deadline: float) -> None:
-        # The hot loop: no Python objects beyond a few floats and ints per step.
-        set_real, get_real, do_step = rt.set_real, rt.get_real, rt.do_step
-        component = rt.component
-        inputs, outputs = prepared.input_values, prepared.output_buffer
-        n_inputs, n_outputs = inputs.shape[1], outputs.shape[1]
-        input_vr, output_vr = prepared.input_vr.ctypes.data, prepared.output_vr.ctypes.data
-        in_base, in_stride = inputs.ctypes.data, inputs.strides[0]
-        out_base, out_stride = outputs.ctypes.data, outputs.strides[0]
-        t0, h = prepared.model_start, prepared.step_size
-        monotonic = time.monotonic
-        for k in range(first, last):
-            if n_inputs:
-                status = set_real(component, input_vr, n_inputs, in_base + k * in_stride)
-                if status > 1:
-                    rt.check("fmi2SetReal", status, t0 + k * h)
-            status = get_real(component, output_vr, n_outputs, out_base + k * out_stride)
-            if status > 1:
-                rt.check("fmi2GetReal", status, t0 + k * h)
-            status = do_step(component, t0 + k * h, step, 1)
-            if status > 1:
-                rt.check("fmi2DoStep", status, t0 + k * h)
-            if monotonic() > deadline:
-                raise simgap.SimulationTimeout(
-                    f"deadline passed at model time {t0 + (k + 1) * h:g} s of {prepared.model_stop:g} s"
-                )
 
     def _prepare_case(self, rt, case: simgap.SimulationCase) -> _PreparedCase:
         step = self._step_size(case)

@@ -1,0 +1,208 @@
+"""The co-simulation step loop: Python over ctypes, then compiled with numba once that pays.
+
+Each step is ``fmi2SetReal`` (inputs), ``fmi2GetReal`` (outputs), ``fmi2DoStep`` on
+preallocated arrays. Through ctypes that costs about 2-4 µs of Python per step; a numba loop that
+calls the FMU's functions by address costs about 0.05 µs, but compiling it takes about a second
+per process. So a process starts with the Python loop and compiles once it has spent
+``COMPILE_AFTER_SECONDS`` in it: a short calibration never pays for the compiler, a long one
+pays at most that much extra.
+
+The loop runs in chunks sized to about ``CHUNK_SECONDS``; the deadline is checked after every
+step in Python and after every chunk when compiled.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import threading
+import time
+import warnings
+
+import simgap
+
+COMPILE_AFTER_SECONDS = 1.0
+CHUNK_SECONDS = 0.005
+_MAX_CHUNK = 1 << 20
+_FUNCTION_NAMES = {1: "fmi2SetReal", 2: "fmi2GetReal", 3: "fmi2DoStep"}
+
+
+class _ProcessState:
+    def __init__(self):
+        self.python_seconds = 0.0
+        self.compiled = None  # the numba loop, once built
+        self.failed = False  # numba missing or the compilation failed: stay in Python
+        self.lock = threading.Lock()
+
+
+_state = _ProcessState()
+
+
+def compiled_loop_in_use() -> bool:
+    """True once this process runs the numba loop."""
+    return _state.compiled is not None
+
+
+def run(rt, prepared, deadline: float) -> None:
+    """Step the instance through the prepared case, filling ``prepared.output_buffer`` rows 0..n-1."""
+    n = prepared.n_steps
+    _run_segment(rt, prepared, 0, n - 1, prepared.step_size, deadline)
+    _run_segment(rt, prepared, n - 1, n, prepared.last_step_size, deadline)
+
+
+def _run_segment(rt, prepared, first: int, last: int, step: float, deadline: float) -> None:
+    chunk = rt.chunk_steps
+    k = first
+    monotonic = time.monotonic
+    while k < last:
+        end = min(last, k + chunk)
+        loop = _compiled_loop()
+        started = time.perf_counter()
+        if loop is not None:
+            _compiled_chunk(loop, rt, prepared, k, end, step)
+            if monotonic() > deadline:
+                _timeout(prepared, end)
+        else:
+            _python_chunk(rt, prepared, k, end, step, deadline)
+        elapsed = time.perf_counter() - started
+        if loop is None:
+            _state.python_seconds += elapsed
+        if elapsed > 0:
+            chunk = max(1, min(_MAX_CHUNK, int((end - k) * CHUNK_SECONDS / elapsed)))
+        k = end
+    rt.chunk_steps = chunk
+
+
+def _python_chunk(rt, prepared, first: int, last: int, step: float, deadline: float) -> None:
+    # The hot loop in Python: a few ints and floats per step, no other objects.
+    set_real, get_real, do_step = rt.set_real, rt.get_real, rt.do_step
+    component = rt.component
+    inputs, outputs = prepared.input_values, prepared.output_buffer
+    n_inputs, n_outputs = inputs.shape[1], outputs.shape[1]
+    input_vr, output_vr = prepared.input_vr.ctypes.data, prepared.output_vr.ctypes.data
+    in_base, in_stride = inputs.ctypes.data, inputs.strides[0]
+    out_base, out_stride = outputs.ctypes.data, outputs.strides[0]
+    t0, h = prepared.model_start, prepared.step_size
+    monotonic = time.monotonic
+    for k in range(first, last):
+        if n_inputs:
+            status = set_real(component, input_vr, n_inputs, in_base + k * in_stride)
+            if status > 1:
+                rt.check("fmi2SetReal", status, t0 + k * h)
+        status = get_real(component, output_vr, n_outputs, out_base + k * out_stride)
+        if status > 1:
+            rt.check("fmi2GetReal", status, t0 + k * h)
+        status = do_step(component, t0 + k * h, step, 1)
+        if status > 1:
+            rt.check("fmi2DoStep", status, t0 + k * h)
+        if monotonic() > deadline:
+            _timeout(prepared, k + 1)
+
+
+def _compiled_chunk(loop, rt, prepared, first: int, last: int, step: float) -> None:
+    inputs, outputs = prepared.input_values, prepared.output_buffer
+    set_real, get_real, do_step = rt.function_addresses()
+    k, which, status = loop(
+        set_real,
+        get_real,
+        do_step,
+        rt.component,
+        prepared.input_vr.ctypes.data,
+        inputs.shape[1],
+        inputs.ctypes.data,
+        inputs.strides[0],
+        prepared.output_vr.ctypes.data,
+        outputs.shape[1],
+        outputs.ctypes.data,
+        outputs.strides[0],
+        prepared.model_start,
+        prepared.step_size,
+        step,
+        first,
+        last,
+    )
+    if which:
+        rt.check(_FUNCTION_NAMES[which], status, prepared.model_start + k * prepared.step_size)
+
+
+def _timeout(prepared, steps_done: int) -> None:
+    model_time = prepared.model_start + steps_done * prepared.step_size
+    raise simgap.SimulationTimeout(
+        f"deadline passed at model time {min(model_time, prepared.model_stop):g} s of {prepared.model_stop:g} s"
+    )
+
+
+def _compiled_loop():
+    if _state.compiled is not None or _state.failed or _state.python_seconds < COMPILE_AFTER_SECONDS:
+        return _state.compiled
+    with _state.lock:
+        if _state.compiled is None and not _state.failed:
+            try:
+                _state.compiled = _build_compiled_loop()
+            except Exception as exc:  # numba missing or unable: the Python loop still works
+                _state.failed = True
+                warnings.warn(f"simgap fmu: compiled step loop unavailable, staying with Python ({exc})", stacklevel=2)
+    return _state.compiled
+
+
+def _build_compiled_loop():
+    import numpy as np
+    from numba import njit
+
+    @njit(cache=True, nogil=True)
+    def loop(set_real, get_real, do_step, component, input_vr, n_inputs, in_base, in_stride,
+             output_vr, n_outputs, out_base, out_stride, t0, h, step, first, last):
+        for k in range(first, last):
+            if n_inputs:
+                status = set_real(component, input_vr, n_inputs, in_base + k * in_stride)
+                if status > 1:
+                    return k, 1, status
+            status = get_real(component, output_vr, n_outputs, out_base + k * out_stride)
+            if status > 1:
+                return k, 2, status
+            status = do_step(component, t0 + k * h, step, np.int32(1))
+            if status > 1:
+                return k, 3, status
+        return last, 0, 0
+
+    return loop
+
+
+_address_class = None
+
+
+def function_addresses(dll) -> tuple:
+    """Numba-callable fmi2SetReal, fmi2GetReal, fmi2DoStep of a loaded FMU library.
+
+    Pointers and ``size_t`` are declared as ``intp``: the same registers on 64-bit platforms,
+    and numba then takes the precomputed row addresses as plain integers.
+    """
+    global _address_class
+    from numba import types
+    import numba.experimental.function_type  # noqa: F401  (registers typeof for these objects)
+
+    if _address_class is None:
+
+        class FunctionAddress(types.WrapperAddressProtocol):
+            def __init__(self, address: int, signature):
+                self._address = address
+                self._signature = signature
+
+            def __wrapper_address__(self) -> int:
+                return self._address
+
+            def signature(self):
+                return self._signature
+
+        _address_class = FunctionAddress
+
+    real_io = types.int32(types.intp, types.intp, types.intp, types.intp)
+    do_step = types.int32(types.intp, types.float64, types.float64, types.int32)
+
+    def address(name: str) -> int:
+        return ctypes.cast(getattr(dll, name), ctypes.c_void_p).value
+
+    return (
+        _address_class(address("fmi2SetReal"), real_io),
+        _address_class(address("fmi2GetReal"), real_io),
+        _address_class(address("fmi2DoStep"), do_step),
+    )
