@@ -1,0 +1,120 @@
+"""simgap.synth writes deterministic synthetic measurements with their truth."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import simgap
+from simgap import synth
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    return tmp_path_factory.getbasetemp() / "fmu-cache"
+
+
+def test_outdoor_conditions_are_seasonal_and_deterministic():
+    a = synth.outdoor_conditions(("autumn", "winter", "summer"), step=300.0, seed=3)
+    b = synth.outdoor_conditions(("autumn", "winter", "summer"), step=300.0, seed=3)
+    c = synth.outdoor_conditions(("autumn", "winter", "summer"), step=300.0, seed=4)
+    pd.testing.assert_frame_equal(a, b)
+    assert not a.equals(c)
+    assert len(a) == 3 * 288
+    day = a.index // 86400
+    means = a.groupby(day)["TOda_K"].mean() - 273.15
+    assert means[1] < means[0] < means[2]
+    assert a["HGloHor_W_m2"].min() >= 0 and a.groupby(day)["HGloHor_W_m2"].max()[2] > 300
+    night = (a.index % 86400) < 3 * 3600
+    assert a.loc[night, "HGloHor_W_m2"].max() == 0
+    assert a["relHumOda_1"].between(0.3, 1.0).all()
+    assert np.abs(np.diff(a["TOda_K"])).max() < 1.5
+
+
+def test_air_source_dataset_with_effect_noise_gaps_and_truth(tmp_path, cache):
+    kwargs = dict(seasons=("winter",), resolution="1min", parameters={"scaleHPQCon_nominal": 0.9},
+                  effects={"start_up_lag": {"tauStartUp": 150.0}}, noise={"THCFlow_K": 0.05},
+                  offsets={"PEl_W": 20.0}, missing_fraction=0.05, mean_gap_s=300.0, seed=5, warmup_s=600.0,
+                  cache_dir=cache)
+    # a short day keeps the closed-loop 1 s bench fast: a part of one season is enough here
+    result = synth.write_dataset(tmp_path / "a.parquet", "air_source_hp", **kwargs)
+    data = pd.read_parquet(result.data_path)
+    clean = pd.read_parquet(result.clean_path)
+    truth = json.loads(result.truth_path.read_text())
+    assert list(data.columns) == ["time", *synth.MODELS["air_source_hp"].inputs, "THCFlow_K", "PEl_W"]
+    assert len(clean) == 1440
+    assert truth["rows_dropped"] == 1440 - len(data)
+    assert 0.04 * 1440 <= truth["rows_dropped"] <= 0.08 * 1440
+    assert truth["effects"] == {"start_up_lag": {"tauStartUp": 150.0}}
+    assert truth["parameters"]["useStartUpLag"] == 1.0 and truth["parameters"]["scaleHPQCon_nominal"] == 0.9
+    assert truth["tuners"]["scaleHPQCon_nominal"] == 0.9 and truth["seed"] == 5
+    merged = data.merge(clean, on="time", suffixes=("", "_clean"))
+    assert (merged["PEl_W"] - merged["PEl_W_clean"]).to_numpy() == pytest.approx(20.0)
+    noise = merged["THCFlow_K"] - merged["THCFlow_K_clean"]
+    assert 0.035 < noise.std() < 0.065
+    assert data["time"].diff().dropna().min() == pd.Timedelta("1min")
+    # same seed, same file
+    again = synth.write_dataset(tmp_path / "b.parquet", "air_source_hp", **kwargs)
+    pd.testing.assert_frame_equal(data, pd.read_parquet(again.data_path))
+    # the controller ran the compressor and the house drew heat
+    assert clean["nSpeedHP_invCtrl0_1"].max() >= 0.25
+    assert (clean["THCFlow_K"] > clean["THCRet_K"]).mean() > 0.9
+
+
+def test_electric_only_record_leaves_out_the_derived_signals(tmp_path, cache):
+    result = synth.write_dataset(tmp_path / "e.parquet", "air_source_hp", seasons=("summer",), resolution="5min",
+                                 record="electric_only", warmup_s=0.0, cache_dir=cache)
+    data = pd.read_parquet(result.data_path)
+    assert not {"nSpeedFanEva_1_0", "nSpeedPumpCon_1_0", "nSpeedHP_invCtrl0_1"} & set(data.columns)
+    assert {"PEl_W", "THCFlow_K", "TEva_K", "THCRet_K", "m_flowHC_kg_s"} <= set(data.columns)
+    assert len(data) == 288
+
+
+def test_water_to_water_dataset_at_5_minutes(tmp_path, cache):
+    result = synth.write_dataset(tmp_path / "w.parquet", "water_to_water_hp", seasons=("autumn", "winter"),
+                                 resolution="5min", parameters={"controlStructure": 0.0}, effects=["cycling"],
+                                 warmup_s=86400.0, seed=2, cache_dir=cache)
+    data = pd.read_parquet(result.data_path)
+    assert len(data) == 2 * 288
+    assert data["PEl_W"].max() > 3000 and data["PEl_W"].min() >= 0
+    assert result.truth["parameters"]["useCycling"] == 1.0
+    assert result.truth["effects"]["cycling"]["tCycMinRun"] == synth.MODELS["water_to_water_hp"].effects["cycling"].parameters["tCycMinRun"].default
+    zone = data["TZone_K"] - 273.15
+    assert 18.0 < zone.mean() < 24.0
+
+
+def test_brine_water_dataset_replays_the_real_inputs(tmp_path, cache):
+    result = synth.write_dataset(tmp_path / "b.parquet", "brine_water_hp", resolution="1min",
+                                 parameters={"useInertia": 0.0}, cache_dir=cache)
+    data = pd.read_parquet(result.data_path)
+    measured = pd.read_csv(synth.ibpsa_measurement_path())
+    assert len(data) == int(np.ceil(len(measured) / 60))
+    assert data["yCompressor_1"].max() == 1.0
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(model="air_source_hp", seasons=("spring",)), "unknown season"),
+        (dict(model="air_source_hp", resolution="2min"), "resolution"),
+        (dict(model="air_source_hp", effects=["no_such_effect"]), "has no effect"),
+        (dict(model="air_source_hp", effects={"start_up_lag": {"tau": 1}}), "has no parameter"),
+        (dict(model="air_source_hp", noise={"QCon_W": 1.0}), "not recorded"),
+        (dict(model="air_source_hp", record="thermal_only"), "record must be"),
+        (dict(model="brine_water_hp", missing_fraction=1.5), "missing_fraction"),
+        (dict(model="heat_pipe"), "unknown synthetic model"),
+    ],
+)
+def test_bad_arguments_are_one_line_errors(tmp_path, kwargs, message):
+    model = kwargs.pop("model")
+    with pytest.raises(simgap.SimgapError, match=message):
+        synth.write_dataset(tmp_path / "x.parquet", model, **kwargs)
+
+
+def test_unknown_parameter_names_the_variable(tmp_path, cache):
+    with pytest.raises(simgap.ModelError, match="noSuchParameter"):
+        synth.write_dataset(tmp_path / "x.parquet", "brine_water_hp", parameters={"noSuchParameter": 1.0},
+                            cache_dir=cache)
