@@ -345,3 +345,20 @@ def test_compiled_step_loop_matches_the_python_loop(fmu_path, compiled_step_loop
     with pytest.raises(simgap.SimulationTimeout, match="deadline passed"):
         sim.simulate(TRUTH, case, deadline=time.monotonic() - 1.0)
     np.testing.assert_array_equal(sim.simulate(params, case)["T_zone"], expected["T_zone"])
+
+
+def test_close_frees_the_instance_and_a_later_run_starts_afresh(fmu_path, tmp_path):
+    private = tmp_path / "closing.fmu"
+    shutil.copy(fmu_path, private)
+    with zipfile.ZipFile(private, "a") as archive:  # different bytes: its own extraction
+        archive.writestr("documentation/note.txt", "closing test")
+    sim = make_simulator(private)
+    case = make_case(key="close")
+    first = sim.simulate(TRUTH, case)
+    before = process_counts()
+    sim.close()
+    again = sim.simulate(TRUTH, case)
+    after = process_counts()
+    assert after["extractions"] == before["extractions"] + 1
+    assert after["instantiations"] == before["instantiations"] + 1
+    np.testing.assert_array_equal(again["T_zone"], first["T_zone"])
