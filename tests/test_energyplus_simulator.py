@@ -124,6 +124,10 @@ def test_outputs_cover_the_case_and_respond_to_parameters(simulator):
     cooler = simulator.simulate({**MODEL_VALUES, "heating_setpoint": 19.0}, case)
     assert cooler["T_zone"].mean() == pytest.approx(19.0, abs=0.15)
 
+    # A mapped parameter that is not passed keeps the model's own value.
+    only_cop = simulator.simulate({"heat_pump_COP": 3.5}, case)
+    np.testing.assert_array_equal(only_cop["P_el"], base["P_el"])
+
 
 def test_scale_mode_multiplies_the_model_value():
     scaled = make_simulator(parameters={"cop_factor": {**PARAMETERS["heat_pump_COP"], "mode": "scale"}})

@@ -342,9 +342,7 @@ class EnergyPlusSimulator(simgap.Simulator):
         return 6  # EnergyPlus's default without a Timestep object
 
     def _model_for(self, parameters: Mapping[str, float], first: dt.date, last: dt.date) -> dict:
-        missing = [name for name in self.fields if name not in parameters]
-        if missing:
-            raise simgap.ModelError(f"no value given for tuner parameters {missing}")
+        # A mapped parameter left out of ``parameters`` keeps the model's own value.
         model = copy.deepcopy(self.base_model)
         for name, value in parameters.items():
             entries = self.fields.get(name)
