@@ -2,8 +2,9 @@
 
     python benchmarks/evaluator.py            # about 2 minutes on 2 cores
 
-Real FMU simulations (the quickstart zone model) are made about 50 ms and about 500 ms long by
-the number of communication steps. Each case runs a real calibration (NSGA-II, real dask
+Real FMU simulations (the quickstart zone model over 7 days at 10-minute steps) are made about
+50 ms and about 500 ms long by the model's internal Euler sub-step ``dt_internal``, chosen by
+timing the model first. Each case runs a real calibration (NSGA-II, real dask
 LocalCluster of process workers) through ``simgap.calibrate`` and reads the run's own log:
 
 - evaluations/s     evaluations / wall time of the calibration loop (ask, evaluate, log, tell)
@@ -46,7 +47,7 @@ data:
     training: {{start: "0%", end: "100%"}}
 simulator:
   plugin: fmu
-  options: {{source: {model}, step_size: {step}}}
+  options: {{source: {model}, start_values: {{dt_internal: {dt_internal}}}}}
   inputs: {{T_out: T_out, u_hp: u_hp}}
 parameters:
   - {{name: C_zone, min: 5.0e6, max: 8.0e7, scale: log}}
@@ -67,16 +68,43 @@ output: {out}
 """
 
 
-def make_data(folder: Path, step: float, steps: int) -> Path:
-    """Noise-free 'measurements' from the model itself at the given resolution."""
-    t = np.arange(steps + 1) * step
+STEP = 600.0
+STEPS = 7 * 144
+
+
+def _case():
+    t = np.arange(STEPS + 1) * STEP
     T_out = 273.15 + 3 + 4 * np.sin(2 * np.pi * t / 86400)
     u = np.clip(0.55 + 0.45 * np.sin(2 * np.pi * t / 14400), 0, 1)
-    sim = FMUSimulator(FMUSimulator.Options(source=str(MODEL), step_size=step), simgap.PluginContext(base_dir=REPO, cache_dir=_cache()))
-    case = simgap.SimulationCase("data", pd.Timestamp("2025-01-01"), 0.0, float(t[-1]), t, {"T_out": T_out, "u_hp": u}, t, ("T_zone", "P_el"))
-    out = sim.simulate(TRUE, case)
-    frame = pd.DataFrame({"time": pd.Timestamp("2025-01-01") + pd.to_timedelta(t, unit="s"), "T_out": T_out, "u_hp": u, **out})
-    path = folder / f"data_{int(step)}s_{steps}.parquet"
+    return simgap.SimulationCase("data", pd.Timestamp("2025-01-01"), 0.0, float(t[-1]), t, {"T_out": T_out, "u_hp": u}, t, ("T_zone", "P_el"))
+
+
+def _simulator(dt_internal: float) -> FMUSimulator:
+    options = FMUSimulator.Options(source=str(MODEL), start_values={"dt_internal": dt_internal})
+    return FMUSimulator(options, simgap.PluginContext(base_dir=REPO, cache_dir=_cache()))
+
+
+def dt_for(target_s: float) -> float:
+    """The internal sub-step that makes one simulation take about ``target_s`` here."""
+    dt = 10.0
+    sim, case = _simulator(dt), _case()
+    sim.simulate(TRUE, case)  # warm: extraction, instantiation
+    times = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        sim.simulate(TRUE, case)
+        times.append(time.perf_counter() - t0)
+    per_substep = statistics.median(times) / (STEPS * STEP / dt)
+    return STEPS * STEP * per_substep / target_s
+
+
+def make_data(folder: Path) -> Path:
+    """Noise-free 'measurements' from the model itself."""
+    case = _case()
+    out = _simulator(60.0).simulate(TRUE, case)
+    t = case.input_time
+    frame = pd.DataFrame({"time": pd.Timestamp("2025-01-01") + pd.to_timedelta(t, unit="s"), "T_out": case.inputs["T_out"], "u_hp": case.inputs["u_hp"], **out})
+    path = folder / "data.parquet"
     frame.to_parquet(path)
     return path
 
@@ -87,12 +115,13 @@ def _cache() -> Path:
     return cache_dir()
 
 
-def one_case(folder: Path, label: str, step: float, steps: int, population: int, evaluations: int):
-    data = make_data(folder, step, steps)
+def one_case(folder: Path, label: str, target_s: float, population: int, evaluations: int):
+    data = make_data(folder)
+    dt_internal = dt_for(target_s)
     rows = []
     for workers in (1, 2):
         wf = folder / f"{label}_{workers}.yaml"
-        wf.write_text(WORKFLOW.format(data=data, model=MODEL, step=step, population=population, evaluations=evaluations, out=folder / "runs"))
+        wf.write_text(WORKFLOW.format(data=data, model=MODEL, dt_internal=dt_internal, population=population, evaluations=evaluations, out=folder / "runs"))
         prepared = prepare(wf)
         run_dir = calibrate(prepared, workers=workers)
         run = simgap.load_run(run_dir)
@@ -122,9 +151,8 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         rows = []
-        # ~2.5 µs per communication step of this model through the FMU plugin
-        rows += one_case(folder, "~50 ms", step=60.0, steps=20_000, population=40, evaluations=200)
-        rows += one_case(folder, "~500 ms", step=5.0, steps=200_000, population=20, evaluations=60)
+        rows += one_case(folder, "~50 ms", 0.05, population=40, evaluations=320)
+        rows += one_case(folder, "~500 ms", 0.5, population=20, evaluations=80)
     table = pd.DataFrame(rows)
     pd.set_option("display.width", 160)
     print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
