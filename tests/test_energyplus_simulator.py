@@ -210,3 +210,11 @@ def test_input_series_are_refused(simulator):
     )
     with pytest.raises(simgap.ModelError, match="weather file"):
         simulator.simulate(MODEL_VALUES, with_inputs)
+
+
+def test_an_output_energyplus_does_not_report_is_a_model_error_listing_the_others():
+    typo = make_simulator(outputs={"T": {"key": "ZONE ONE", "variable": "Zone Air Temperatur"}})
+    with pytest.raises(simgap.ModelError) as info:
+        typo.simulate(MODEL_VALUES, make_case(days=0.5, outputs=("T",)))
+    message = str(info.value)
+    assert "'Zone Air Temperatur'" in message and "available" in message and "\n" not in message

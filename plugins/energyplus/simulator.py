@@ -389,7 +389,7 @@ class EnergyPlusSimulator(simgap.Simulator):
             )
         except subprocess.TimeoutExpired:
             raise simgap.SimulationTimeout(
-                f"EnergyPlus did not finish within {timeout:.1f} s"
+                f"EnergyPlus passed the deadline ({timeout:.2f} s after it started)"
             ) from None
         except OSError as exc:
             raise simgap.SimulationFailed(f"cannot start EnergyPlus: {exc}") from None
@@ -412,19 +412,21 @@ class EnergyPlusSimulator(simgap.Simulator):
     def _read(self, sql_file: Path, names: tuple[str, ...]) -> dict[str, pd.Series]:
         if not sql_file.is_file():
             raise simgap.SimulationFailed("EnergyPlus finished without writing eplusout.sql")
-        out = {}
+        by_frequency: dict[str, dict[str, tuple[str, str]]] = {}
         for name in names:
             spec = self.options.outputs[name]
+            by_frequency.setdefault(spec.frequency, {})[name] = (spec.key, spec.variable)
+        out = {}
+        for frequency, wanted in by_frequency.items():
             try:
-                frame = read_energyplus_output(
-                    sql_file, {name: (spec.key, spec.variable)}, spec.frequency
-                )
+                frame = read_energyplus_output(sql_file, wanted, frequency)
             except simgap.DataError as exc:
                 # The run worked but did not report what the workflow names: a user error.
                 raise simgap.ModelError(
-                    f"simulator.options.outputs.{name}: {str(exc).split(': ', 1)[-1]}"
+                    f"simulator.options.outputs: {str(exc).split(': ', 1)[-1]}"
                 ) from None
-            out[name] = frame[name]
+            for name in wanted:
+                out[name] = frame[name].dropna()
         return out
 
     def _align(
