@@ -74,12 +74,23 @@ def outdoor_temperature(seed: int) -> np.ndarray:
     return np.round(daily_mean + diurnal + weather, 2)
 
 
+def solar_gains(seed: int) -> np.ndarray:
+    """Solar heat gains through the windows in W: winter days from 08:00 to 16:00, clouds vary."""
+    rng = np.random.default_rng([seed, 2])
+    t = sample_times()
+    hour = (t / 3600.0) % 24.0
+    daylight = np.clip(np.sin(np.pi * (hour - 8.0) / 8.0), 0.0, None)
+    day_peak = np.array([2200.0, 900.0, 1600.0, 1800.0])[(t // 86400).astype(int)]
+    clouds = np.clip(1.0 - np.abs(rng.normal(0.0, 0.25, len(t))), 0.2, 1.0)
+    return np.round(day_peak * daylight * clouds, 0)
+
+
 def setpoint(t: float) -> float:
     hour = (t / 3600.0) % 24.0
     return SETPOINT_DAY if DAY_FROM <= hour < DAY_UNTIL else SETPOINT_NIGHT
 
 
-def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray) -> pd.DataFrame:
+def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray, q_sol: np.ndarray) -> pd.DataFrame:
     """Step the FMU with the controller in the loop; noise-free outputs in kelvin and watts."""
     from fmpy import extract
     from fmpy.fmi2 import FMU2Slave
@@ -104,7 +115,7 @@ def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray) -> pd.DataFrame
         fmu.setupExperiment(startTime=0.0, stopTime=float(t[-1]))
         fmu.setReal([vr[name] for name in TRUE_PARAMETERS], list(TRUE_PARAMETERS.values()))
         fmu.enterInitializationMode()
-        fmu.setReal([vr["T_out"]], [t_out_degc[0] + KELVIN])
+        fmu.setReal([vr["T_out"], vr["Q_sol"]], [t_out_degc[0] + KELVIN, q_sol[0]])
         fmu.exitInitializationMode()
         integral, running = 0.0, False
         for k in range(n):
@@ -117,7 +128,7 @@ def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray) -> pd.DataFrame
             if not (demand >= 1.0 and error > 0.0) and not (demand <= 0.0 and error < 0.0):
                 integral = min(max(integral + GAIN * error * STEP / INTEGRAL_TIME, 0.0), 1.0)
             u_hp[k] = u
-            fmu.setReal([vr["T_out"], vr["u_hp"]], [t_out_degc[k] + KELVIN, u])
+            fmu.setReal([vr["T_out"], vr["u_hp"], vr["Q_sol"]], [t_out_degc[k] + KELVIN, u, q_sol[k]])
             t_zone[k], p_el[k] = fmu.getReal([vr["T_zone"], vr["P_el"]])
             if k < n - 1:
                 fmu.doStep(currentCommunicationPoint=float(t[k]), communicationStepSize=STEP)
@@ -133,11 +144,12 @@ def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray) -> pd.DataFrame
 def measured_data(noise_scale: float = 1.0, seed: int = DEFAULT_SEED, fmu_path: Path | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The CSV's frame and the noise-free closed-loop simulation behind it."""
     t_out = outdoor_temperature(seed)
+    q_sol = solar_gains(seed)
     if fmu_path is None:
         with tempfile.TemporaryDirectory(prefix="simgap-quickstart-") as cache:
-            clean = simulate_closed_loop(_build(Path(cache)), t_out)
+            clean = simulate_closed_loop(_build(Path(cache)), t_out, q_sol)
     else:
-        clean = simulate_closed_loop(fmu_path, t_out)
+        clean = simulate_closed_loop(fmu_path, t_out, q_sol)
     rng = np.random.default_rng([seed, 1])
     n = len(clean)
     zone_noise = rng.normal(0.0, TEMPERATURE_NOISE * noise_scale, n)
@@ -147,6 +159,7 @@ def measured_data(noise_scale: float = 1.0, seed: int = DEFAULT_SEED, fmu_path: 
         {
             "time": times.dt.strftime("%Y-%m-%dT%H:%M:%S"),
             "T_out_degC": t_out,
+            "Q_sol_W": q_sol,
             "u_hp": clean["u_hp"].to_numpy(),
             "T_zone_degC": np.round(clean["T_zone_K"].to_numpy() - KELVIN + zone_noise, 3),
             "P_el_W": np.round(clean["P_el_W"].to_numpy() * (1.0 + power_noise), 1),

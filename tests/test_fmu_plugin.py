@@ -153,7 +153,7 @@ def test_missing_file_and_non_fmu_are_model_errors_naming_the_path(tmp_path):
 
 def test_variables_report_kinds_and_why_not_settable(fmu_path):
     variables = make_simulator(fmu_path).variables()
-    assert {n for n, v in variables.items() if v.kind == "input"} == {"T_out", "u_hp"}
+    assert {n for n, v in variables.items() if v.kind == "input"} == {"T_out", "u_hp", "Q_sol"}
     assert {n for n, v in variables.items() if v.kind == "output"} == {"T_zone", "T_water", "P_el", "Q_hp", "COP"}
     for name in TRUTH:
         assert variables[name].kind == "parameter" and variables[name].settable

@@ -52,7 +52,7 @@ def case_from(frame: pd.DataFrame, key: str, outputs=("T_zone", "P_el")) -> simg
         start=0.0,
         stop=float(seconds[-1]),
         input_time=seconds,
-        inputs={"T_out": frame["T_out_degC"].to_numpy() + KELVIN, "u_hp": frame["u_hp"].to_numpy(dtype=float)},
+        inputs={"T_out": frame["T_out_degC"].to_numpy() + KELVIN, "u_hp": frame["u_hp"].to_numpy(dtype=float), "Q_sol": frame["Q_sol_W"].to_numpy(dtype=float)},
         output_time=seconds,
         outputs=outputs,
     )
@@ -88,7 +88,7 @@ def test_committed_csv_is_what_the_generator_writes(generator, tmp_path):
 
 def test_committed_csv_shape_and_excitation():
     frame = pd.read_csv(COMMITTED_CSV)
-    assert list(frame.columns) == ["time", "T_out_degC", "u_hp", "T_zone_degC", "P_el_W"]
+    assert list(frame.columns) == ["time", "T_out_degC", "Q_sol_W", "u_hp", "T_zone_degC", "P_el_W"]
     time = pd.to_datetime(frame["time"])
     assert time.iloc[0] == pd.Timestamp("2025-01-13 00:00") and time.iloc[-1] == pd.Timestamp("2025-01-16 00:00")
     assert (time.diff().dropna() == pd.Timedelta("10min")).all()

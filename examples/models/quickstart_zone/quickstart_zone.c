@@ -6,7 +6,11 @@
  *   COP   = eta_carnot * T_water / max(T_water - T_out, dT_lift_min)
  *   Q_hp  = COP * P_el
  *   C_water dT_water/dt = Q_hp - UA_rad (T_water - T_zone)
- *   C_zone  dT_zone/dt  = UA_rad (T_water - T_zone) - UA_env (T_zone - T_out) + Q_int
+ *   C_zone  dT_zone/dt  = UA_rad (T_water - T_zone) - UA_env (T_zone - T_out) + Q_int + Q_sol
+ *
+ * Q_sol (solar gains through the windows, an input) is a known absolute heat flow: without it,
+ * scaling C_zone, UA_env, UA_rad and the heat pump output by one factor would leave the
+ * temperatures almost unchanged, and the parameters could not be told apart from the data.
  *
  * Co-simulation integrates with explicit Euler at sub-steps of at most dt_internal inside each
  * doStep, deliberately: a calibration that tries a very small C_zone makes the integration
@@ -31,6 +35,7 @@ enum {
     VR_TAU_ZONE,
     VR_T_ZONE, VR_T_WATER, VR_P_EL, VR_Q_HP, VR_COP,
     VR_DER_T_ZONE, VR_DER_T_WATER,
+    VR_Q_SOL,
     N_REALS
 };
 
@@ -46,7 +51,7 @@ static const char *const NAMES[N_REALS] = {
     "T_out", "u_hp", "C_zone", "UA_env", "UA_rad", "eta_carnot", "P_el_nom", "k_lift",
     "C_water", "Q_int", "T_zone_start", "T_water_start", "dt_internal", "dT_lift_ref",
     "dT_lift_min", "tau_zone", "T_zone", "T_water", "P_el", "Q_hp", "COP", "der(T_zone)",
-    "der(T_water)",
+    "der(T_water)", "Q_sol",
 };
 
 #define T_MIN 200.0
@@ -118,7 +123,7 @@ static void compute(Instance *m) {
     r[VR_Q_HP] = q_hp;
     r[VR_TAU_ZONE] = r[VR_C_ZONE] / r[VR_UA_ENV];
     r[VR_DER_T_WATER] = (q_hp - q_rad) / r[VR_C_WATER];
-    r[VR_DER_T_ZONE] = (q_rad - r[VR_UA_ENV] * (t_zone - t_out) + r[VR_Q_INT]) / r[VR_C_ZONE];
+    r[VR_DER_T_ZONE] = (q_rad - r[VR_UA_ENV] * (t_zone - t_out) + r[VR_Q_INT] + r[VR_Q_SOL]) / r[VR_C_ZONE];
 }
 
 static fmi2Status check_parameters(Instance *m) {
@@ -156,7 +161,7 @@ static fmi2Status check_states(Instance *m) {
 }
 
 static int is_settable(const Instance *m, fmi2ValueReference vr) {
-    if (vr == VR_T_OUT || vr == VR_U_HP || vr == VR_Q_INT) return 1;
+    if (vr == VR_T_OUT || vr == VR_U_HP || vr == VR_Q_INT || vr == VR_Q_SOL) return 1;
     if (vr >= VR_C_ZONE && vr <= VR_DT_INTERNAL)
         return m->mode == MODE_INSTANTIATED || m->mode == MODE_INITIALIZATION;
     return 0;
