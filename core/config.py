@@ -8,11 +8,9 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-import pandas as pd
 from pydantic import (
-    AfterValidator,
     BaseModel,
     ConfigDict,
     Field,
@@ -21,7 +19,9 @@ from pydantic import (
     model_validator,
 )
 
+from .durations import Duration, parse_duration
 from .errors import ConfigError
+from .preprocess import PreprocessStep
 from .yamlfile import YamlDocument, read_yaml
 
 NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_\-]*$"
@@ -31,29 +31,6 @@ class Section(BaseModel):
     model_config = ConfigDict(extra="forbid", populate_by_name=True)
 
 
-def parse_duration(value: Any) -> pd.Timedelta:
-    """``90`` (seconds), ``"10min"``, ``"1h"``, ``"2 days"`` -> Timedelta; raises ValueError."""
-    if isinstance(value, bool):
-        raise ValueError("expected a duration such as 600, '10min' or '1h'")
-    if isinstance(value, (int, float)):
-        return pd.Timedelta(seconds=float(value))
-    try:
-        td = pd.Timedelta(str(value))
-    except (ValueError, TypeError):
-        raise ValueError(f"expected a duration such as 600, '10min' or '1h', got {value!r}") from None
-    if td <= pd.Timedelta(0):
-        raise ValueError(f"expected a positive duration, got {value!r}")
-    return td
-
-
-def _check_duration(value: Any) -> Any:
-    if value is not None:
-        parse_duration(value)
-    return value
-
-
-Duration = Annotated[Any, AfterValidator(_check_duration)]
-"""A duration as written in the file (kept as written; parse with :func:`parse_duration`)."""
 
 
 # ---------------------------------------------------------------------------------------------
@@ -132,6 +109,8 @@ class DataConfig(Section):
     time: TimeSpec = Field(default_factory=TimeSpec)
     columns: dict[str, ColumnSpec] = Field(default_factory=dict)
     """New column name -> source column (renames) with optional unit conversion."""
+    preprocess: list[PreprocessStep] = Field(default_factory=list)
+    """Steps applied in order after ``columns`` and before ``resample``."""
     resample: Duration = None
     """Resample to this period (interval means), e.g. '10min'."""
     segments: Segments

@@ -102,6 +102,11 @@ def load_measured(wf: LoadedWorkflow) -> MeasuredData:
 
     # text columns become all-NaN; if a workflow names one, scoring reports it as empty
     frame = frame.apply(pd.to_numeric, errors="coerce")
+    for i, step in enumerate(cfg.preprocess):
+        missing = [c for c in step.columns_read() if c not in frame.columns]
+        if missing:
+            raise wf.error(("data", "preprocess", i), f"{step.step}: column {missing[0]!r} not in the data; columns: {', '.join(map(str, frame.columns))}")
+        frame = step.apply(frame)
     if cfg.resample is not None:
         frame = frame.resample(parse_duration(cfg.resample)).mean()
     return MeasuredData(frame=frame.astype(float))

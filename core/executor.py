@@ -50,7 +50,7 @@ class DaskExecutor:
                 n_workers=n,
                 threads_per_worker=1,
                 processes=True,
-                dashboard_address=None,
+                dashboard_address=":0",  # any free port: several runs may share a machine
                 silence_logs=logging.ERROR,
             )
             self.client = Client(self.cluster)
