@@ -27,6 +27,7 @@ from .interfaces import (
     Simulator,
     Variable,
 )
+from .fmu_build import build_fmu
 from .plugin_host import hookimpl
 
 __version__ = "0.1.0"
@@ -51,6 +52,7 @@ __all__ = [
     "hookimpl",
     "load_run",
     "__version__",
+    "build_fmu",
 ]
 
 

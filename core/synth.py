@@ -259,7 +259,7 @@ def _spec(model: str) -> ModelSpec:
 
 def build_model(model: str, cache_dir: Path | None = None) -> Path:
     """Compile the example model's C sources (cached) and return the ``.fmu`` path."""
-    from simgap.plugins.fmu.build import build_fmu
+    from .fmu_build import build_fmu
 
     from .setup import cache_dir as default_cache_dir
 

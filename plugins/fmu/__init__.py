@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import simgap
 
-from .build import build_fmu
+from simgap import build_fmu
 from .simulator import FMUSimulator
 
 __all__ = ["FMUSimulator", "build_fmu"]

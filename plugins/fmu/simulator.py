@@ -23,7 +23,7 @@ import simgap
 
 from . import runtime as fmu_runtime
 from . import steploop
-from .build import build_fmu
+from simgap import build_fmu
 
 _SETTABLE_VARIABILITIES = ("fixed", "tunable")
 _PREPARED_CASES_KEPT = 8

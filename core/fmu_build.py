@@ -16,7 +16,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-import simgap
+from .errors import ModelError
 
 # Bump when the build recipe changes in a way the hash of the inputs would not show.
 _RECIPE_VERSION = "1"
@@ -28,24 +28,24 @@ def build_fmu(source_dir: Path, cache_dir: Path) -> Path:
     """Compile ``source_dir`` into an FMU (Linux, gcc) and return the path of the cached ``.fmu``."""
     source_dir = Path(source_dir)
     if not sys.platform.startswith("linux"):
-        raise simgap.ModelError(
+        raise ModelError(
             f"{source_dir}: building an FMU from C sources is supported on Linux only "
             f"(this is {sys.platform}); build the FMU elsewhere and give its path under 'fmu'"
         )
     xml_path = source_dir / "modelDescription.xml"
     if not source_dir.is_dir():
-        raise simgap.ModelError(f"{source_dir}: FMU source folder not found")
+        raise ModelError(f"{source_dir}: FMU source folder not found")
     if not xml_path.is_file():
-        raise simgap.ModelError(f"{source_dir}: no modelDescription.xml in the FMU source folder")
+        raise ModelError(f"{source_dir}: no modelDescription.xml in the FMU source folder")
     c_files = sorted(source_dir.glob("*.c"))
     if not c_files:
-        raise simgap.ModelError(f"{source_dir}: no *.c files in the FMU source folder")
+        raise ModelError(f"{source_dir}: no *.c files in the FMU source folder")
 
     identifiers = _model_identifiers(xml_path)
     compiler = os.environ.get("CC", "gcc")
     compiler_path = shutil.which(compiler)
     if compiler_path is None:
-        raise simgap.ModelError(
+        raise ModelError(
             f"{source_dir}: C compiler '{compiler}' not found; install gcc (e.g. apt-get install gcc) "
             "or set CC, or give a built FMU under 'fmu'"
         )
@@ -102,9 +102,9 @@ def _model_identifiers(xml_path: Path) -> list[str]:
     try:
         description = read_model_description(str(xml_path), validate=False)
     except Exception as exc:  # fmpy raises plain exceptions for XML and schema problems
-        raise simgap.ModelError(f"{xml_path}: not a valid FMI model description: {_first_line(exc)}") from None
+        raise ModelError(f"{xml_path}: not a valid FMI model description: {_first_line(exc)}") from None
     if description.fmiVersion != "2.0":
-        raise simgap.ModelError(
+        raise ModelError(
             f"{xml_path}: fmiVersion is '{description.fmiVersion}', the C-source builder handles FMI 2.0"
         )
     identifiers = []
@@ -112,7 +112,7 @@ def _model_identifiers(xml_path: Path) -> list[str]:
         if interface is not None and interface.modelIdentifier not in identifiers:
             identifiers.append(interface.modelIdentifier)
     if not identifiers:
-        raise simgap.ModelError(f"{xml_path}: declares neither <CoSimulation> nor <ModelExchange>")
+        raise ModelError(f"{xml_path}: declares neither <CoSimulation> nor <ModelExchange>")
     return identifiers
 
 
@@ -121,7 +121,7 @@ def _fmi_headers() -> Path:
 
     include_dir = Path(fmpy.__file__).parent / "c-code"
     if not (include_dir / "fmi2Functions.h").is_file():
-        raise simgap.ModelError(f"the FMI 2.0 headers are missing from fmpy's installation ({include_dir})")
+        raise ModelError(f"the FMI 2.0 headers are missing from fmpy's installation ({include_dir})")
     return include_dir
 
 
@@ -139,12 +139,12 @@ def _compile(command: list[str], source_dir: Path) -> None:
     try:
         result = subprocess.run(command, capture_output=True, text=True, timeout=300)
     except OSError as exc:
-        raise simgap.ModelError(f"{source_dir}: cannot run the C compiler {command[0]}: {exc}") from None
+        raise ModelError(f"{source_dir}: cannot run the C compiler {command[0]}: {exc}") from None
     if result.returncode != 0:
         lines = [line for line in result.stderr.splitlines() if line.strip()]
         errors = [line for line in lines if "error" in line.lower()] or lines
         excerpt = " | ".join(errors[:3]) or f"exit status {result.returncode}"
-        raise simgap.ModelError(
+        raise ModelError(
             f"{source_dir}: compiling the FMU failed: {excerpt} (command: {shlex.join(command)})"
         )
 
@@ -154,7 +154,7 @@ def _validate(fmu_path: Path, source_dir: Path) -> None:
 
     problems = validate_fmu(str(fmu_path))
     if problems:
-        raise simgap.ModelError(
+        raise ModelError(
             f"{source_dir}: the built FMU does not pass fmpy's validation: " + "; ".join(problems[:3])
         )
 
