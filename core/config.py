@@ -19,7 +19,9 @@ from pydantic import (
     model_validator,
 )
 
-from .durations import Duration, parse_duration
+import pandas as pd
+
+from .durations import Duration, parse_duration  # noqa: F401  (parse_duration: re-exported)
 from .errors import ConfigError
 from .preprocess import PreprocessStep
 from .yamlfile import YamlDocument, read_yaml
