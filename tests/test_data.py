@@ -1,0 +1,109 @@
+"""Measured data: time parsing, renames and units, resampling, segments, gaps."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from simgap.config import LoadedWorkflow, Workflow
+from simgap.data import input_series, load_measured, segments
+from simgap.errors import ConfigError
+from simgap.units import convert
+from simgap.yamlfile import read_yaml
+
+BASE = """
+data:
+  file: {file}
+  time: {time}
+  columns:
+    T: {{from: T_degC, unit: degC, to: K}}
+    P: {{from: P_kW, unit: kW, to: W}}
+  {extra}
+  segments:
+    training: {training}
+    validation: {validation}
+simulator: {{plugin: fmu}}
+parameters: [{{name: a, min: 0, max: 1}}]
+targets: [{{name: T, measured: T, simulated: T, metrics: [rmse]}}]
+optimiser: {{budget: {{evaluations: 10}}}}
+"""
+
+
+def workflow(tmp_path, frame, *, time="{column: t, unit: s, origin: '2024-03-01 06:00'}", extra="",
+             training="{start: 0, end: 3600}", validation="{start: '50%', end: '100%'}", suffix=".csv"):
+    data = tmp_path / f"data{suffix}"
+    frame.to_csv(data, index=False) if suffix == ".csv" else frame.to_parquet(data)
+    path = tmp_path / "wf.yaml"
+    path.write_text(BASE.format(file=data.name, time=time, extra=extra, training=training, validation=validation))
+    doc = read_yaml(path)
+    return LoadedWorkflow(doc, Workflow.model_validate(doc.data))
+
+
+def table(n=13, step=600.0):
+    t = np.arange(n) * step
+    return pd.DataFrame({"t": t, "T_degC": 20.0 + np.arange(n), "P_kW": np.linspace(1, 2, n), "note": ["x"] * n})
+
+
+def test_numeric_time_with_origin_and_unit_conversion(tmp_path):
+    wf = workflow(tmp_path, table())
+    data = load_measured(wf)
+    assert data.reference_time == pd.Timestamp("2024-03-01 06:00")
+    assert data.frame.index[1] - data.frame.index[0] == pd.Timedelta("10min")
+    np.testing.assert_allclose(data.frame["T"].iloc[:2], [293.15, 294.15])
+    assert data.frame["P"].iloc[0] == pytest.approx(1000.0)
+    train = segments(wf, data, "training")[0]
+    assert (train.start, train.end) == (pd.Timestamp("2024-03-01 06:00"), pd.Timestamp("2024-03-01 07:00"))
+    valid = segments(wf, data, "validation")[0]
+    assert valid.start == pd.Timestamp("2024-03-01 07:00") and valid.end == data.frame.index[-1]
+
+
+def test_timestamps_parquet_and_resample(tmp_path):
+    frame = table(13)
+    frame["t"] = pd.date_range("2024-01-01", periods=13, freq="10min").astype(str)
+    wf = workflow(tmp_path, frame, time="t", extra="resample: 30min", training="{start: '2024-01-01 00:00', end: '2024-01-01 01:00'}", suffix=".parquet")
+    data = load_measured(wf)
+    assert len(data.frame) == 5
+    assert data.frame["T"].iloc[0] == pytest.approx(294.15)  # mean of 20, 21, 22 degC
+
+
+def test_gaps_in_inputs_are_interpolated_and_said(tmp_path):
+    frame = table()
+    frame.loc[3:4, "P_kW"] = np.nan
+    data = load_measured(workflow(tmp_path, frame))
+    filled, notes = input_series(data.frame, ["P"])
+    assert filled["P"].notna().all()
+    assert notes == ["input column 'P': 2 missing samples interpolated linearly in time"]
+
+
+@pytest.mark.parametrize(
+    "kwargs, needle",
+    [
+        ({"time": "{column: time}"}, "time column 'time' not in"),
+        ({"training": "{start: 0, end: 99999999}", "validation": "{start: 99999999, end: 999999999}"}, "outside the measured record"),
+        ({"training": "{start: '120%', end: '130%'}"}, "between 0% and 100%"),
+        ({"training": "{start: 3600, end: 0}"}, "must be before end"),
+    ],
+)
+def test_bad_time_and_segments(tmp_path, kwargs, needle):
+    wf = workflow(tmp_path, table(), **kwargs)
+    with pytest.raises(ConfigError, match=needle):
+        data = load_measured(wf)
+        segments(wf, data, "training")
+        segments(wf, data, "validation")
+
+
+def test_text_in_numeric_time_column(tmp_path):
+    frame = table()
+    frame["t"] = frame["t"].astype(object)
+    frame.loc[2, "t"] = "oops"
+    with pytest.raises(ConfigError, match="non-number 'oops'"):
+        load_measured(workflow(tmp_path, frame))
+
+
+def test_unit_table():
+    assert convert(100.0, "degC", "degF") == pytest.approx(212.0)
+    assert convert(1.0, "kWh", "MJ") == pytest.approx(3.6)
+    assert convert(50.0, "%", "1") == pytest.approx(0.5)
+    with pytest.raises(ValueError, match="cannot convert"):
+        convert(1.0, "K", "W")
