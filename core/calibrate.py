@@ -1,4 +1,10 @@
-"""Run a calibration: ask the optimiser, evaluate batches on dask, log, build the front, validate."""
+"""Run a calibration: ask the optimiser, evaluate batches on dask, log, build the front, validate.
+
+Resuming an interrupted run replays it: the optimisers are deterministic given their seed and
+the objective values they are told, so a fresh optimiser with the same seed asks the same points
+again; logged points are answered from ``evaluations.parquet`` (after checking the optimiser
+really asked for them), only missing ones are evaluated, and the run carries on from there.
+"""
 
 from __future__ import annotations
 
@@ -11,12 +17,26 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
-from .config import parse_duration
+from .config import load_workflow, parse_duration
+from .errors import SimgapError
 from .evaluation import STATUS_OK
 from .executor import DaskExecutor
 from .front import knee_index, non_dominated
-from .results import ERROR, OBJECTIVE, PARAM, VALIDATION, RunStore, prepare_run_dir
-from .setup import Prepared
+from .results import (
+    ERROR,
+    EVALUATIONS,
+    OBJECTIVE,
+    PARAM,
+    SUMMARY,
+    VALIDATION,
+    WORKFLOW,
+    RunStore,
+    prepare_run_dir,
+    read_log,
+    read_run_info,
+    write_run_info,
+)
+from .setup import Prepared, prepare
 
 
 class Progress:
@@ -58,6 +78,83 @@ def _run_id(prepared: Prepared) -> str:
     return f"{datetime.now().strftime('%Y%m%d-%H%M%S')}-{name}"
 
 
+# Logged parameter values are float64 written by the same code that will recompute them, so a
+# replayed point matches bit for bit; the tolerance only absorbs a different CPU's last digit.
+_REPLAY_RTOL = 1e-9
+_REPLAY_ATOL = 1e-12
+
+
+class _Replay:
+    """The logged results of an interrupted run, handed back as the new optimiser asks again."""
+
+    def __init__(self, log, names: tuple[str, ...], objective_columns: list[str], run_dir: Path):
+        self.run_dir = run_dir
+        self.names = names
+        ids = log.column("eval_id").to_numpy()
+        if len(np.unique(ids)) != len(ids):
+            dup = sorted({int(i) for i in ids if (ids == i).sum() > 1})
+            raise SimgapError(f"{run_dir / EVALUATIONS}: eval_id {dup[0]} is logged more than once; the log is corrupt")
+        generation = log.column("generation").to_numpy()
+        status = log.column("status").to_pylist()
+        params = np.column_stack([log.column(PARAM + n).to_numpy() for n in names]) if len(ids) else np.empty((0, len(names)))
+        objectives = (
+            np.column_stack([log.column(OBJECTIVE + c).to_numpy() for c in objective_columns])
+            if len(ids) else np.empty((0, len(objective_columns)))
+        )
+        self.rows = {
+            int(eid): (int(generation[i]), params[i], {"eval_id": int(eid), "status": status[i], "objectives": objectives[i].tolist()})
+            for i, eid in enumerate(ids)
+        }
+        self.logged = len(self.rows)
+
+    def take(self, generation: int, eval_ids: range, values: np.ndarray) -> dict[int, dict]:
+        """Logged rows among ``eval_ids`` (asked as ``values``), checked against what was asked."""
+        found: dict[int, dict] = {}
+        for eid, asked in zip(eval_ids, values):
+            entry = self.rows.pop(eid, None)
+            if entry is None:
+                continue
+            logged_generation, logged, row = entry
+            if logged_generation != generation or not np.allclose(logged, asked, rtol=_REPLAY_RTOL, atol=_REPLAY_ATOL):
+                where = "generation" if logged_generation != generation else "parameter values"
+                raise SimgapError(
+                    f"cannot resume {self.run_dir}: evaluation {eid} was logged with other {where} than "
+                    f"the optimiser asks for now (logged generation {logged_generation}, "
+                    f"{_describe_point(self.names, logged)}; now generation {generation}, "
+                    f"{_describe_point(self.names, asked)}); the workflow (optimiser, seed, bounds, "
+                    "options) or the optimiser's code changed since the run started"
+                )
+            found[eid] = row
+        return found
+
+    @property
+    def pending(self) -> bool:
+        return bool(self.rows)
+
+
+def _describe_point(names, values) -> str:
+    return ", ".join(f"{n}={v:.6g}" for n, v in zip(names, values))
+
+
+def resume(
+    run_dir: str | Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: Progress | None = None,
+    on_generation: Callable[[int], None] | None = None,
+) -> Path:
+    """Continue the interrupted run in ``run_dir`` with the workflow copy it holds."""
+    run_dir = Path(run_dir).resolve()
+    info = read_run_info(run_dir)
+    if (run_dir / SUMMARY).is_file():
+        raise SimgapError(f"{run_dir} finished already ({SUMMARY} exists); nothing to resume")
+    # the copy's relative paths were written relative to the original workflow's folder
+    wf = load_workflow(run_dir / WORKFLOW, base_dir=Path(info["base_dir"]))
+    prepared = prepare(wf)
+    return calibrate(prepared, workers=workers, scheduler=scheduler, progress=progress, on_generation=on_generation, resume_dir=run_dir)
+
+
 def calibrate(
     prepared: Prepared,
     *,
@@ -66,15 +163,45 @@ def calibrate(
     output: str | Path | None = None,
     progress: Progress | None = None,
     on_generation: Callable[[int], None] | None = None,
+    run_id: str | None = None,
+    workflow_text: str | None = None,
+    run_info: dict | None = None,
+    resume_dir: Path | None = None,
 ) -> Path:
-    """Run the workflow's calibration; returns the run directory."""
+    """Run the workflow's calibration; returns the run directory.
+
+    ``run_id`` names the run folder (default: time stamp and workflow name); ``workflow_text``
+    is what the folder keeps as ``workflow.yaml`` (default: the workflow file's text);
+    ``run_info`` adds entries to ``run.json``. ``resume_dir`` continues that interrupted run
+    instead of starting one (see :func:`resume`).
+    """
     progress = progress or Progress()
     m = prepared.wf.model
-    parent = Path(output) if output is not None else prepared.wf.resolve(m.output)
-    run_id = _run_id(prepared)
-    run_dir = prepare_run_dir(parent, run_id, prepared.wf.path)
     setup = prepared.training
-    store = RunStore(run_dir, run_id, prepared.space.names, setup.columns, setup.objective_columns)
+    replay = None
+    if resume_dir is not None:
+        run_dir = Path(resume_dir)
+        info = read_run_info(run_dir)
+        run_id = info["run_id"]
+        store = RunStore(run_dir, run_id, prepared.space.names, setup.columns, setup.objective_columns)
+        log = read_log(run_dir)
+        if log is not None:
+            store.preload(log, run_dir / EVALUATIONS)
+            replay = _Replay(log, prepared.space.names, setup.objective_columns, run_dir)
+        info.setdefault("resumed", []).append({"at": datetime.now(), "evaluations_logged": len(store)})
+        write_run_info(run_dir, info)
+    else:
+        parent = Path(output) if output is not None else prepared.wf.resolve(m.output)
+        run_id = run_id or _run_id(prepared)
+        text = workflow_text if workflow_text is not None else prepared.wf.path.read_text(encoding="utf-8")
+        info = {
+            "workflow": str(prepared.wf.path),
+            "base_dir": str(prepared.wf.base_dir),
+            "started": datetime.now(),
+            **(run_info or {}),
+        }
+        run_dir = prepare_run_dir(parent, run_id, text, info)
+        store = RunStore(run_dir, run_id, prepared.space.names, setup.columns, setup.objective_columns)
     budget = _Budget(prepared)
     started = datetime.now()
     t_start = time.perf_counter()
@@ -86,14 +213,19 @@ def calibrate(
         scheduler=scheduler or execution.scheduler,
         batch_size=execution.batch_size,
     ) as executor:
-        progress.message(f"run {run_id}: {executor.description}; writing {run_dir}")
+        if replay is not None:
+            progress.message(f"resuming run {run_id}: {replay.logged} evaluations logged; {executor.description}")
+        else:
+            progress.message(f"run {run_id}: {executor.description}; writing {run_dir}")
         handle = executor.share(setup)
         optimiser = prepared.make_optimiser(budget.evaluations)
         generation = 0
         next_id = 0
         loop_start = time.perf_counter()
+        replayed = 0
         while True:
-            reason = budget.exhausted(len(store), generation)
+            # next_id, not len(store): a resumed store already holds evaluations still to be replayed
+            reason = budget.exhausted(next_id, generation)
             if reason:
                 stop_reason = reason
                 break
@@ -102,8 +234,11 @@ def calibrate(
             X = np.atleast_2d(optimiser.ask())
             if len(X) == 0:
                 break
-            params = prepared.space.as_dicts(prepared.space.from_unit(X))
-            jobs = list(zip(range(next_id, next_id + len(X)), params))
+            values = prepared.space.from_unit(X)
+            eval_ids = range(next_id, next_id + len(X))
+            logged = replay.take(generation, eval_ids, values) if replay is not None else {}
+            replayed += len(logged)
+            jobs = [(eid, p) for eid, p in zip(eval_ids, prepared.space.as_dicts(values)) if eid not in logged]
             by_id = dict(jobs)
             next_id += len(X)
             if generation == 0:
@@ -113,7 +248,11 @@ def calibrate(
                 store.append(rows, _gen, _by_id)
                 progress.update(generation=_gen, done=len(store), total=_total, best=store.best, failed=store.failed)
 
-            rows = executor.run(setup, handle, jobs, on_done=on_done)
+            fresh = executor.run(setup, handle, jobs, on_done=on_done) if jobs else []
+            if not jobs:
+                progress.update(generation=generation, done=next_id, total=budget.total(len(X)), best=store.best, failed=store.failed)
+            answered = {**logged, **{r["eval_id"]: r for r in fresh}}
+            rows = [answered[eid] for eid in eval_ids]
             F = np.array([r["objectives"] for r in rows], dtype=float)
             feasible = np.array([r["status"] == STATUS_OK for r in rows])
             store.flush()
@@ -124,6 +263,14 @@ def calibrate(
         loop_wall = time.perf_counter() - loop_start
         n_workers = executor.n_workers
         progress.stop()
+        if replay is not None and replay.pending:
+            extra = sorted(replay.rows)
+            raise SimgapError(
+                f"cannot resume {run_dir}: {len(extra)} logged evaluations (eval_id {extra[0]}..{extra[-1]}) were never "
+                f"asked for again ({stop_reason}); the workflow's budget or optimiser changed since the run started"
+            )
+        if replay is not None:
+            progress.message(f"resumed: {replayed} evaluations taken from the log, {len(store) - replayed} evaluated now")
 
         frame = store.frame()
         pareto = _pareto(frame, store)
@@ -135,6 +282,8 @@ def calibrate(
         store.write_pareto(pareto)
 
     summary = _summary(prepared, store, frame, pareto, featured, run_id, started, t_start, loop_wall, n_workers, stop_reason)
+    if replay is not None:
+        summary["resumed"] = {"evaluations_from_log": replayed, "evaluations_now": len(store) - replayed}
     store.write_summary(summary)
     from .plots import write_plots  # matplotlib is slow to import; only when needed
 
@@ -143,6 +292,7 @@ def calibrate(
 
 
 def _pareto(frame: pd.DataFrame, store: RunStore) -> pd.DataFrame:
+    frame = frame.sort_values("eval_id", kind="stable")  # a resumed log holds rows out of order
     ok = frame[frame["status"] == STATUS_OK]
     obj_cols = [OBJECTIVE + c for c in store.objective_columns]
     if ok.empty:

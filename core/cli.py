@@ -79,23 +79,56 @@ def main():
 
 
 @main.command()
-@click.argument("workflow", type=click.Path(path_type=Path))
+@click.argument("workflow", type=click.Path(path_type=Path), required=False)
 @click.option("--workers", type=click.IntRange(min=1), help="local process workers (default: one per core)")
 @click.option("--scheduler", metavar="ADDR", help="address of an existing dask scheduler, e.g. tcp://127.0.0.1:8786")
 @click.option("--out", type=click.Path(path_type=Path), help="output directory (a run folder is created inside)")
-def run(workflow, workers, scheduler, out):
-    """Calibrate the model of WORKFLOW; writes a run folder with the log, front, summary and plots."""
-    from .calibrate import calibrate
-    from .results import load_run
+@click.option("--resume", "resume_dir", type=click.Path(path_type=Path), metavar="DIR",
+              help="continue the interrupted run (or grid) in DIR, with the workflow copy it holds")
+def run(workflow, workers, scheduler, out, resume_dir):
+    """Calibrate the model of WORKFLOW; writes a run folder with the log, front, summary and plots.
+
+    A workflow with a 'grid:' section runs every cell and writes a cross table.
+    """
+    from .calibrate import calibrate, resume
+    from .config import load_workflow
+    from .grid import is_grid_dir, resume_grid, run_grid
     from .setup import prepare
 
-    prepared = prepare(workflow)
+    if (workflow is None) == (resume_dir is None):
+        _fail("give a WORKFLOW file to run, or --resume DIR to continue an interrupted run (not both)")
     progress = RichProgress()
     try:
-        run_dir = calibrate(prepared, workers=workers, scheduler=scheduler, output=out, progress=progress)
+        if resume_dir is not None and is_grid_dir(resume_dir):
+            _report_grid(resume_grid(resume_dir, workers=workers, scheduler=scheduler, progress=progress))
+            return
+        if resume_dir is not None:
+            run_dir = resume(resume_dir, workers=workers, scheduler=scheduler, progress=progress)
+        else:
+            wf = load_workflow(workflow)
+            if wf.model.grid is not None:
+                _report_grid(run_grid(wf, workers=workers, scheduler=scheduler, output=out, progress=progress))
+                return
+            run_dir = calibrate(prepare(wf), workers=workers, scheduler=scheduler, output=out, progress=progress)
     except KeyboardInterrupt:
         progress.stop()
-        _fail("interrupted; evaluations finished so far are kept in the run folder's evaluations.parquet")
+        _fail("interrupted; evaluations finished so far are kept in the run folder's evaluations.parquet; "
+              "continue with 'simgap run --resume DIR'")
+    _report_run(run_dir)
+
+
+def _report_grid(grid_dir):
+    from .grid import CROSS_TABLE_MD
+
+    table = grid_dir / CROSS_TABLE_MD
+    if table.is_file():
+        click.echo(table.read_text(encoding="utf-8"))
+    click.echo(f"results: {grid_dir}")
+
+
+def _report_run(run_dir):
+    from .results import load_run
+
     result = load_run(run_dir)
     s = result.summary
     click.echo(
@@ -140,6 +173,11 @@ def plugins():
             names = [n for n in registry.names(kind) if registry.source(kind, n) == source]
             if names:
                 click.echo(f"  {kind}s: {', '.join(names)}")
+
+
+from .synth_cli import register as _register_synth  # noqa: E402  (the command body lives there)
+
+_register_synth(main)
 
 
 if __name__ == "__main__":  # pragma: no cover

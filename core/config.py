@@ -239,6 +239,54 @@ class ExecutionConfig(Section):
 
 
 
+# ---------------------------------------------------------------------------------------------
+# experiment grid
+
+VARIANT_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]*$"
+
+
+class GridRule(Section):
+    when: dict[str, str] = Field(min_length=1)
+    """Axis name -> variant name; the rule applies to every cell that has all of them."""
+    set: dict[str, Any] = Field(min_length=1)
+    """Key path (e.g. ``targets[0].metrics[0].options``) -> value, applied after the axes."""
+
+
+class GridTable(Section):
+    target: str | None = None
+    """Target whose series are scored (default: the first)."""
+    metrics: list[MetricSpec] = Field(min_length=1)
+    """Rows of the cross table: every cell's calibrated result is scored under each."""
+    solution: Literal["knee", "best"] = "knee"
+    """Which solution of each cell is scored: the knee of its front, or the best for its first objective."""
+
+
+class GridConfig(Section):
+    axes: dict[str, dict[str, dict[str, Any]]] = Field(min_length=1)
+    """Axis name -> variant name -> {key path: value} overrides of the workflow; cells are all
+    combinations of one variant per axis."""
+    combine: list[GridRule] = Field(default_factory=list)
+    table: GridTable | None = None
+
+    @model_validator(mode="after")
+    def _names(self):
+        for axis, variants in self.axes.items():
+            if not re.match(VARIANT_PATTERN, axis):
+                raise ValueError(f"axis name {axis!r} may hold only letters, digits, '_', '-' and '.'")
+            if not variants:
+                raise ValueError(f"axis {axis!r} has no variants")
+            for variant in variants:
+                if not re.match(VARIANT_PATTERN, str(variant)):
+                    raise ValueError(f"variant name {variant!r} of axis {axis!r} may hold only letters, digits, '_', '-' and '.'")
+        for rule in self.combine:
+            for axis, variant in rule.when.items():
+                if axis not in self.axes:
+                    raise ValueError(f"combine: no axis {axis!r}; axes: {', '.join(self.axes)}")
+                if variant not in self.axes[axis]:
+                    raise ValueError(f"combine: axis {axis!r} has no variant {variant!r}; variants: {', '.join(self.axes[axis])}")
+        return self
+
+
 class Workflow(Section):
     name: str | None = Field(None, pattern=NAME_PATTERN)
     description: str | None = None
@@ -249,6 +297,10 @@ class Workflow(Section):
     optimiser: OptimiserConfig
     execution: ExecutionConfig = Field(default_factory=ExecutionConfig)
     output: str = "runs"
+    diagnose: dict[str, Any] = Field(default_factory=dict)
+    """Options of ``simgap diagnose`` (validated by simgap.diagnosis; see docs/diagnosis.md)."""
+    grid: GridConfig | None = None
+    """Run every combination of the axes' variants (simgap.grid), then a cross table."""
 
     @model_validator(mode="after")
     def _unique(self):
@@ -301,9 +353,10 @@ def validation_error(doc: YamlDocument, exc: ValidationError, prefix: tuple = ()
 class LoadedWorkflow:
     """A validated workflow with the file it came from, to point errors at lines."""
 
-    def __init__(self, doc: YamlDocument, model: Workflow):
+    def __init__(self, doc: YamlDocument, model: Workflow, base_dir: Path | None = None):
         self.doc = doc
         self.model = model
+        self._base_dir = Path(base_dir) if base_dir is not None else None
 
     @property
     def path(self) -> Path:
@@ -311,7 +364,9 @@ class LoadedWorkflow:
 
     @property
     def base_dir(self) -> Path:
-        return self.doc.path.parent
+        """Folder relative paths are resolved against: the file's own, unless the workflow is a
+        copy (a run folder's ``workflow.yaml``, a grid cell) of one that lived elsewhere."""
+        return self._base_dir if self._base_dir is not None else self.doc.path.parent
 
     def error(self, path, message: str) -> ConfigError:
         return self.doc.error(path, message)
@@ -321,11 +376,11 @@ class LoadedWorkflow:
         return p if p.is_absolute() else (self.base_dir / p).resolve()
 
 
-def load_workflow(path: str | Path) -> LoadedWorkflow:
+def load_workflow(path: str | Path, base_dir: Path | None = None) -> LoadedWorkflow:
     """Read and validate the schema of a workflow file (plugins, data and model come later)."""
     doc = read_yaml(path)
     try:
         model = Workflow.model_validate(doc.data)
     except ValidationError as exc:
         raise validation_error(doc, exc) from None
-    return LoadedWorkflow(doc, model)
+    return LoadedWorkflow(doc, model, base_dir)

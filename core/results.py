@@ -2,7 +2,9 @@
 
 Layout of a run directory::
 
-    workflow.yaml          the workflow as given (for provenance and resume)
+    workflow.yaml          the workflow as run (for provenance and resume)
+    run.json               run id, the original workflow file and the folder its relative
+                           paths are relative to (written first, so an interrupted run resumes)
     evaluations.parquet    one row per evaluation, rewritten atomically as results arrive
     pareto.parquet         the non-dominated solutions with training and validation errors
     summary.json           what ran, the best solutions, timings, notes
@@ -14,7 +16,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,6 +30,7 @@ EVALUATIONS = "evaluations.parquet"
 PARETO = "pareto.parquet"
 SUMMARY = "summary.json"
 WORKFLOW = "workflow.yaml"
+RUN_INFO = "run.json"
 
 PARAM = "param."
 ERROR = "error."
@@ -77,6 +79,32 @@ class RunStore:
 
     def __len__(self) -> int:
         return self._rows
+
+    def preload(self, table: pa.Table, source: Path) -> None:
+        """Start from the log of an interrupted run, so every rewrite keeps its rows."""
+        expected = self._schema()
+        if table.schema.names != expected.names:
+            missing = [n for n in expected.names if n not in table.schema.names]
+            extra = [n for n in table.schema.names if n not in expected.names]
+            what = "; ".join(
+                part for part in (
+                    f"missing {', '.join(missing)}" if missing else "",
+                    f"not in the workflow: {', '.join(extra)}" if extra else "",
+                    "same columns in another order" if not missing and not extra else "",
+                ) if part
+            )
+            raise SimgapError(
+                f"{source}: its columns do not match the workflow ({what}); "
+                "the workflow's parameters or targets changed since the run started"
+            )
+        table = table.cast(expected)
+        self._batches = table.to_batches()
+        self._rows = table.num_rows
+        status = table.column("status").to_pylist()
+        self.failed = sum(s != "ok" for s in status)
+        for col in self.error_columns:
+            values = [v for v in table.column(ERROR + col).to_pylist() if v is not None and v == v]
+            self.best[col] = min(values, default=math.inf)
 
     def append(self, rows: list[dict], generation: int, params_by_id: dict[int, dict[str, float]]) -> None:
         c: dict[str, list] = {name: [] for name in self.column_names}
@@ -140,12 +168,45 @@ def _json_default(value):
     return str(value)
 
 
-def prepare_run_dir(parent: Path, run_id: str, workflow_file: Path) -> Path:
+def prepare_run_dir(parent: Path, run_id: str, workflow_text: str, info: dict) -> Path:
+    """Create the run folder with the workflow as run and ``run.json`` (what a resume needs)."""
     run_dir = Path(parent) / run_id
     run_dir.mkdir(parents=True, exist_ok=False)
-    shutil.copyfile(workflow_file, run_dir / WORKFLOW)
+    (run_dir / WORKFLOW).write_text(workflow_text, encoding="utf-8")
+    write_run_info(run_dir, {"run_id": run_id, **info})
     (run_dir / "plots").mkdir()
     return run_dir
+
+
+def write_run_info(run_dir: Path, info: dict) -> None:
+    tmp = Path(run_dir) / (RUN_INFO + ".tmp")
+    tmp.write_text(json.dumps(info, indent=2, default=_json_default), encoding="utf-8")
+    os.replace(tmp, Path(run_dir) / RUN_INFO)
+
+
+def read_run_info(run_dir: Path) -> dict:
+    """``run.json`` of a run folder; a clear error when the folder is not a run folder."""
+    run_dir = Path(run_dir)
+    path = run_dir / RUN_INFO
+    if not run_dir.is_dir():
+        raise SimgapError(f"no such run directory: {run_dir}")
+    if not path.is_file():
+        raise SimgapError(f"{run_dir} has no {RUN_INFO}: not a run folder simgap can resume (runs started before resume existed cannot be)")
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except ValueError as exc:
+        raise SimgapError(f"{path}: not valid JSON ({exc})") from None
+
+
+def read_log(run_dir: Path) -> pa.Table | None:
+    """The evaluation log of a run folder as an Arrow table, or None when nothing was logged yet."""
+    path = Path(run_dir) / EVALUATIONS
+    if not path.is_file():
+        return None
+    try:
+        return pq.read_table(path)
+    except (OSError, pa.ArrowException) as exc:
+        raise SimgapError(f"{path}: cannot read the evaluation log ({exc})") from None
 
 
 @dataclass
