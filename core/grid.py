@@ -97,7 +97,20 @@ class Cell:
     text: str
 
 
+def _builtin(value):
+    """ruamel's scalar subclasses (ScalarFloat, ScalarInt, ...) as the builtin types they extend."""
+    if isinstance(value, dict):
+        return {str(k): _builtin(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_builtin(v) for v in value]
+    for kind in (bool, int, float, str):
+        if isinstance(value, kind):
+            return kind(value)
+    return value
+
+
 def _dump(data: dict, header: str) -> str:
+    data = _builtin(data)
     yaml = YAML(typ="safe", pure=True)
     yaml.default_flow_style = False
     yaml.sort_base_mapping_type_on_output = False
