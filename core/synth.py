@@ -48,6 +48,7 @@ offsets are constant; lost samples are whole rows dropped in random gaps.
 
 from __future__ import annotations
 
+import ctypes
 import json
 import math
 from dataclasses import asdict, dataclass, field
@@ -382,9 +383,17 @@ class _Stepper:
     """One FMU instance driven step by step with value references (for closed-loop benches)."""
 
     def __init__(self, fmu_path: Path, start_values: Mapping[str, float]):
-        from fmpy import extract, read_model_description
-        from fmpy.fmi2 import FMU2Slave
+        from fmpy import calloc, extract, free, read_model_description
+        from fmpy.fmi2 import (
+            FMU2Slave,
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
+        from fmpy.logging import addLoggerProxy
 
+        self.fmu_name = fmu_path.name
         self.description = read_model_description(str(fmu_path))
         self.vr = {v.name: v.valueReference for v in self.description.modelVariables}
         unknown = sorted(set(start_values) - set(self.vr))
@@ -397,7 +406,23 @@ class _Stepper:
             modelIdentifier=self.description.coSimulation.modelIdentifier,
             instanceName="synth",
         )
-        self.slave.instantiate()
+        # keep the FMU's own messages, so a rejected parameter value is reported in its words
+        # instead of fmpy printing them and raising a bare status error
+        self.messages: list[str] = []
+
+        def keep(env, instance, status, category, message):
+            try:
+                self.messages.append(message.decode("utf-8", "replace") if message else "")
+            except Exception:  # never let an exception cross back into C
+                pass
+
+        self._logger = fmi2CallbackLoggerTYPE(keep)
+        self._callbacks = fmi2CallbackFunctions()
+        self._callbacks.logger = self._logger
+        self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(ctypes.byref(self._callbacks))
+        self.slave.instantiate(callbacks=self._callbacks)
         self.slave.setupExperiment(startTime=0.0)
         names = list(start_values)
         if names:
@@ -405,8 +430,16 @@ class _Stepper:
 
     def initialise(self, inputs: Mapping[str, float]) -> None:
         self.set(inputs)
-        self.slave.enterInitializationMode()
-        self.slave.exitInitializationMode()
+        try:
+            self.slave.enterInitializationMode()
+            self.slave.exitInitializationMode()
+        except Exception as exc:
+            raise self.failure(exc, "initialisation") from None
+
+    def failure(self, exc: Exception, when: str) -> ModelError:
+        """A failed FMI call as a one-line error with the FMU's last message."""
+        said = self.messages[-1].strip() if self.messages else str(exc)
+        return ModelError(f"{self.fmu_name}: {when} failed: {said}")
 
     def set(self, values: Mapping[str, float]) -> None:
         self.slave.setReal([self.vr[n] for n in values], list(values.values()))
@@ -461,6 +494,7 @@ def _run_air_source(fmu: Path, weather: pd.DataFrame, start_values: Mapping[str,
     on, since_switch, integral, speed = False, 1e9, 0.0, 0.0
     t_oda, rel_hum, solar = t_oda.tolist(), rel_hum.tolist(), solar.tolist()
     decay_rad = 1.0 - math.exp(-step / tau_rad)
+    k = 0
     try:
         stepper.initialise({"TEva_K": t_oda[0], "THCRet_K": t_ret})
         vr_in = [stepper.vr[n] for n in inputs]
@@ -492,6 +526,10 @@ def _run_air_source(fmu: Path, weather: pd.DataFrame, start_values: Mapping[str,
             out = slave.getReal(vr_out)
             record[k, : len(inputs)] = u
             record[k, len(inputs):] = out
+    except ModelError:
+        raise
+    except Exception as exc:
+        raise stepper.failure(exc, f"the step at t = {t[k]:g} s") from None
     finally:
         stepper.close()
     # row k holds the inputs applied over [t_k, t_k+1) and the outputs at its end: label by start
@@ -505,6 +543,7 @@ def _run_open_loop(fmu: Path, inputs: pd.DataFrame, start_values: Mapping[str, f
     columns = list(inputs.columns)
     values = inputs.to_numpy(dtype=float)
     record = np.empty((len(t), len(outputs)))
+    k = 0
     try:
         stepper.initialise(dict(zip(columns, values[0])))
         vr_in = [stepper.vr[c] for c in columns]
@@ -514,6 +553,10 @@ def _run_open_loop(fmu: Path, inputs: pd.DataFrame, start_values: Mapping[str, f
             slave.setReal(vr_in, list(values[k]))
             slave.doStep(currentCommunicationPoint=t[k], communicationStepSize=step)
             record[k] = slave.getReal(vr_out)
+    except ModelError:
+        raise
+    except Exception as exc:
+        raise stepper.failure(exc, f"the step at t = {t[k]:g} s") from None
     finally:
         stepper.close()
     frame = pd.DataFrame(record, columns=outputs, index=inputs.index)
@@ -671,6 +714,7 @@ def write_dataset(
     effects: Mapping[str, Mapping[str, float]] | Iterable[str] | None = None,
     noise: Mapping[str, float] | None = None,
     offsets: Mapping[str, float] | None = None,
+    decimals: Mapping[str, int] | None = None,
     missing_fraction: float = 0.0,
     mean_gap_s: float = 600.0,
     record: str = "all",
@@ -687,6 +731,8 @@ def write_dataset(
     - ``parameters``: true values for FMU parameters (others keep the model's defaults).
     - ``effects``: effect names (defaults) or ``{name: {parameter: value}}`` (see ``MODELS``).
     - ``noise``: ``{column: standard deviation}``; ``offsets``: ``{column: constant offset}``.
+    - ``decimals``: ``{column: n}`` rounds the column to n decimals after noise and offsets
+      (a logger's resolution; it also keeps a 1 s file small).
     - ``missing_fraction``: share of rows dropped, in gaps of mean length ``mean_gap_s``.
     - ``record``: ``"all"`` or ``"electric_only"`` (air_source_hp without fan, pump and
       compressor signals).
@@ -699,7 +745,7 @@ def write_dataset(
         raise SimgapError(f"missing_fraction must be within [0, 1), got {missing_fraction}")
     step = _resolution_seconds(resolution)
     columns = recorded_columns(model, record)
-    for kind, mapping in (("noise", noise), ("offsets", offsets)):
+    for kind, mapping in (("noise", noise), ("offsets", offsets), ("decimals", decimals)):
         for column in mapping or {}:
             if column not in columns:
                 raise SimgapError(f"{kind}: column {column!r} is not recorded for {model}; recorded: {', '.join(columns)}")
@@ -718,6 +764,8 @@ def write_dataset(
         if sigma > 0:
             measured[column] = measured[column] + rng.normal(0.0, sigma, len(measured))
         measured[column] = measured[column] + float((offsets or {}).get(column, 0.0))
+        if column in (decimals or {}):
+            measured[column] = measured[column].round(int(decimals[column]))
     keep = _drop_gaps(len(measured), missing_fraction, mean_gap_s / step, rng)
     measured = measured.loc[keep]
 
@@ -730,8 +778,8 @@ def write_dataset(
     path.parent.mkdir(parents=True, exist_ok=True)
     clean_path = path.with_name(path.stem + ".clean.parquet")
     truth_path = path.with_name(path.stem + ".truth.json")
-    with_time(measured).to_parquet(path, index=False)
-    with_time(clean).to_parquet(clean_path, index=False)
+    with_time(measured).to_parquet(path, index=False, compression="zstd")
+    with_time(clean).to_parquet(clean_path, index=False, compression="zstd")
 
     spec = _spec(model)
     effect_map = effects if isinstance(effects, Mapping) or effects is None else {n: {} for n in effects}
@@ -751,6 +799,7 @@ def write_dataset(
         "start": str(origin),
         "noise": dict(noise or {}),
         "offsets": dict(offsets or {}),
+        "decimals": {k: int(v) for k, v in (decimals or {}).items()},
         "missing_fraction": missing_fraction,
         "rows_dropped": int((~keep).sum()),
         "record": record,
