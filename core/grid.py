@@ -63,7 +63,11 @@ def parse_key_path(text: str) -> tuple[str | int, ...]:
             f"malformed key path {text!r}; expected names joined by '.' with [index] for list items, "
             "e.g. targets[0].metrics[0].name"
         )
-    return tuple(m.group(1) if m.group(1) is not None else int(m.group(2)) for m in _KEY_PART.finditer(text))
+    # a dotted number is a list index too (targets.0.metrics): brackets need quotes in {flow: mappings}
+    return tuple(
+        (int(m.group(1)) if m.group(1).isdigit() else m.group(1)) if m.group(1) is not None else int(m.group(2))
+        for m in _KEY_PART.finditer(text)
+    )
 
 
 def set_at(data: dict, path: tuple[str | int, ...], value) -> None:
@@ -131,6 +135,15 @@ def expand(wf: LoadedWorkflow) -> list[Cell]:
     base = {k: v for k, v in wf.doc.data.items() if k != "grid"}
     base_name = wf.model.name or re.sub(r"[^A-Za-z0-9_\-]", "_", wf.path.stem)
     axes = list(grid.axes)
+    for i, rule in enumerate(grid.combine):
+        for axis, variant in rule.when.items():
+            if axis not in grid.axes:
+                raise wf.error(("grid", "combine", i, "when", axis), f"no axis {axis!r}; axes: {', '.join(axes)}")
+            if variant not in grid.axes[axis]:
+                raise wf.error(
+                    ("grid", "combine", i, "when", axis),
+                    f"axis {axis!r} has no variant {variant!r}; variants: {', '.join(grid.axes[axis])}",
+                )
     cells = []
     for combo in itertools.product(*(list(grid.axes[a]) for a in axes)):
         variants = dict(zip(axes, combo))
