@@ -149,9 +149,16 @@ def _report_run(run_dir):
 @click.argument("workflow", type=click.Path(path_type=Path))
 def check(workflow):
     """Validate WORKFLOW (schema, plugins, data, model variables) without running a simulation."""
+    from .config import load_workflow
+    from .grid import check_grid
     from .setup import prepare
 
-    p = prepare(workflow)
+    wf = load_workflow(workflow)
+    if wf.model.grid is not None:
+        for line in check_grid(wf):
+            click.echo(line)
+        return
+    p = prepare(wf)
     m = p.wf.model
     click.echo(f"{workflow}: ok")
     click.echo(f"  data: {len(p.data.frame)} samples {p.data.frame.index[0]} .. {p.data.frame.index[-1]}")

@@ -245,6 +245,23 @@ def _prepare_cells(cells: list[Cell]) -> dict:
     return prepared
 
 
+def check_grid(wf: LoadedWorkflow) -> list[str]:
+    """Prepare every cell and the cross table's scoring (no simulation); lines for ``simgap check``."""
+    cells = expand(wf)
+    prepared = _prepare_cells(cells)
+    target, rows = table_rows(wf, cells)
+    from .setup import prepare
+
+    for cell in cells:
+        prepare(_scoring_workflow(wf, cell, target, rows))
+    lines = [f"{wf.path.name}: ok; grid of {len(cells)} cells ({' x '.join(f'{a} {len(v)}' for a, v in wf.model.grid.axes.items())})"]
+    for cell in cells:
+        p = prepared[cell.name]
+        lines.append(f"  {cell.name}: {len(p.space.names)} tuner parameters; objectives {', '.join(p.problem.objective_names)}")
+    lines.append(f"  cross table: {target} under {', '.join(r.key for r in rows)}")
+    return lines
+
+
 def _run_cells(grid_dir: Path, cells: list[Cell], prepared: dict, workers, scheduler, progress) -> None:
     from .calibrate import calibrate
 
