@@ -42,7 +42,8 @@ FMU switch parameter it sets to 1 and its own parameters with defaults and plaus
 The same table tells a gap diagnosis how to add an effect to a model.
 
 Data are block means over each logging interval, labelled by the interval's start (a logger
-that averages); noise is Gaussian with the given standard deviation in the column's unit;
+that averages) or, with ``label="end"``, by its end (an energy meter's convention, which lines
+up with a model output that is the mean over the last communication step); noise is Gaussian with the given standard deviation in the column's unit;
 offsets are constant; lost samples are whole rows dropped in random gaps.
 """
 
@@ -248,8 +249,10 @@ MODELS: dict[str, ModelSpec] = {
 
 
 def models_dir() -> Path:
-    """The folder of the example model sources (``examples/models`` of the simgap checkout)."""
-    return Path(__file__).resolve().parents[1] / "examples" / "models"
+    """The folder of the example model sources (``examples/models``, installed as ``simgap.models``)."""
+    from importlib.resources import files
+
+    return Path(str(files("simgap.models")))
 
 
 def _spec(model: str) -> ModelSpec:
@@ -569,7 +572,9 @@ def _w2w_outputs() -> list[str]:
 
 
 def ibpsa_measurement_path() -> Path:
-    return Path(__file__).resolve().parents[1] / "examples" / "data" / "ibpsa_measured_heat_pump" / "measured_heat_pump_1s.csv"
+    from importlib.resources import files
+
+    return Path(str(files("simgap.example_data"))) / "ibpsa_measured_heat_pump" / "measured_heat_pump_1s.csv"
 
 
 def simulate_truth(
@@ -720,6 +725,7 @@ def write_dataset(
     record: str = "all",
     seed: int = 0,
     start: str = "2024-01-01 00:00",
+    label: str = "start",
     warmup_s: float | None = None,
     cache_dir: Path | None = None,
 ) -> SynthResult:
@@ -736,9 +742,12 @@ def write_dataset(
     - ``missing_fraction``: share of rows dropped, in gaps of mean length ``mean_gap_s``.
     - ``record``: ``"all"`` or ``"electric_only"`` (air_source_hp without fan, pump and
       compressor signals).
-    - ``start``: timestamp of the first sample.
+    - ``start``: when the first logging interval begins (the first row's stamp with label start).
+    - ``label``: ``"start"`` or ``"end"``: which end of its interval a row is stamped with.
     """
     path = Path(path)
+    if label not in ("start", "end"):
+        raise SimgapError(f"label must be 'start' or 'end' (of each logging interval), got {label!r}")
     if path.suffix != ".parquet":
         path = path.with_suffix(".parquet")
     if not 0.0 <= missing_fraction < 1.0:
@@ -769,7 +778,7 @@ def write_dataset(
     keep = _drop_gaps(len(measured), missing_fraction, mean_gap_s / step, rng)
     measured = measured.loc[keep]
 
-    origin = pd.Timestamp(start)
+    origin = pd.Timestamp(start) + (pd.Timedelta(seconds=step) if label == "end" else pd.Timedelta(0))
     def with_time(frame: pd.DataFrame) -> pd.DataFrame:
         out = frame.reset_index(drop=False)
         out.insert(0, "time", origin + pd.to_timedelta(out.pop("time_s").to_numpy(), unit="s"))
@@ -786,7 +795,7 @@ def write_dataset(
     start_values = resolve_parameters(model, parameters, effects)
     truth = {
         "model": model,
-        "model_source": str(models_dir() / spec.folder),
+        "model_source": f"examples/models/{spec.folder}",
         "parameters": start_values,
         "tuners": {name: start_values.get(name, bound.default) for name, bound in spec.tuners.items()},
         "effects": {
@@ -796,7 +805,8 @@ def write_dataset(
         "seasons": list(seasons) if model != "brine_water_hp" else [],
         "days_per_season": days_per_season,
         "resolution_s": step,
-        "start": str(origin),
+        "start": str(pd.Timestamp(start)),
+        "label": label,
         "noise": dict(noise or {}),
         "offsets": dict(offsets or {}),
         "decimals": {k: int(v) for k, v in (decimals or {}).items()},
@@ -806,7 +816,7 @@ def write_dataset(
         "columns": columns,
         "data_file": path.name,
         "clean_file": clean_path.name,
-        "averaging": "interval means labelled by the interval start",
+        "averaging": f"interval means labelled by the interval {label}",
     }
     truth_path.write_text(json.dumps(truth, indent=2) + "\n")
     return SynthResult(path, truth_path, clean_path, truth)
