@@ -17,6 +17,10 @@ from .errors import (
     SimulationTimeout,
 )
 from .interfaces import (
+    DiagnosisData,
+    Effect,
+    EffectAddition,
+    EffectParameter,
     Metric,
     NoOptions,
     Optimiser,
@@ -35,6 +39,10 @@ __version__ = "0.1.0"
 __all__ = [
     "ConfigError",
     "DataError",
+    "DiagnosisData",
+    "Effect",
+    "EffectAddition",
+    "EffectParameter",
     "Metric",
     "ModelError",
     "NoOptions",

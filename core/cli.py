@@ -187,5 +187,10 @@ from .synth_cli import register as _register_synth  # noqa: E402  (the command b
 _register_synth(main)
 
 
+from .diagnosis.command import diagnose_command  # noqa: E402  (body in simgap.diagnosis)
+
+main.add_command(diagnose_command)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()

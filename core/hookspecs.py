@@ -69,3 +69,30 @@ def register_optimisers(register):
     objective vector per point (lower is better) and a ``feasible`` flag (False where the
     simulation failed; its objectives are then +inf).
     """
+
+
+@hookspec
+def register_effects(register):
+    """Register effect classes for the gap diagnosis: ``register(MyEffect)``.
+
+    An effect class subclasses :class:`simgap.Effect`: a ``name``, a one-sentence
+    ``description`` an engineer understands, ``evidence`` (what it looks like in the data), and
+    three methods, each given a :class:`simgap.DiagnosisData` (the model's measured inputs and
+    simulated targets on the scored time grid, the roles of those series, the model's
+    variables):
+
+    - ``applies(data)``: None when the effect can be tested here, else a short reason (for
+      instance "needs a compressor signal"). Say no rather than guess.
+    - ``signature(data)``: a few feature series that the residual (measured − simulated) looks
+      like where the model lacks the effect, e.g. ``exp(-t_since_start / tau)`` while running
+      for a start-up lag, or the time derivative of the temperature for a sensor lag. The
+      diagnosis regresses every target's residual on them, beyond what the model's own tuners
+      could absorb, and tests significance by circular shifts (autocorrelation kept).
+    - ``addition(data)``: how to add the effect to the model — fixed start values (a switch
+      parameter) and the effect's tuners with bounds — or None if this model cannot take it.
+      With an addition the diagnosis also simulates the model with the effect on, uses the
+      change as a further signature column, and recalibrates to measure how far the gap
+      shrinks.
+
+    Effects are instantiated without arguments and must not keep state between calls.
+    """

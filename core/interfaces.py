@@ -192,3 +192,116 @@ class Optimiser(ABC):
     def done(self) -> bool:
         """True once the optimiser has converged or used up its own budget."""
         return False
+
+
+# --------------------------------------------------------------------------------------------
+# Effects (gap diagnosis)
+
+
+@dataclass(frozen=True)
+class EffectParameter:
+    """A parameter an effect brings into a calibration once it is added, with its search range."""
+
+    name: str
+    default: float
+    lower: float
+    upper: float
+    unit: str = ""
+    scale: Literal["linear", "log"] = "linear"
+
+
+@dataclass(frozen=True)
+class EffectAddition:
+    """How to add an effect to a model: parameter values to fix and new tuner parameters.
+
+    ``switch`` holds fixed start values (for instance ``{"useStartUpLag": 1.0}``) and
+    ``parameters`` the effect's own tuners, searched alongside the model's tuners.
+    """
+
+    switch: Mapping[str, float]
+    parameters: tuple[EffectParameter, ...]
+
+
+@dataclass
+class DiagnosisData:
+    """What an effect's signature sees: the model's inputs and simulated outputs on the scored
+    time grid (training and validation segments one after the other).
+
+    ``time`` is seconds since the first sample; ``segment`` numbers the contiguous pieces (a
+    feature that integrates over time restarts at each piece). ``inputs`` are the measured
+    series fed to the model, by model variable name; ``simulated`` the simulated targets, by
+    target name. ``roles`` says which of these series plays a role an effect may need
+    (``"compressor"``: running fraction 0..1, ``"outdoor_temperature"`` in K, ``"humidity"``
+    0..1, ``"flow"``: heating-circuit mass flow, ``"power"``: electric power, ``"temperature"``:
+    the first water-temperature target): see :meth:`role`. Measured targets are deliberately
+    not here: a signature built from them would explain any residual of that target.
+    """
+
+    time: np.ndarray
+    segment: np.ndarray
+    inputs: Mapping[str, np.ndarray]
+    simulated: Mapping[str, np.ndarray]
+    units: Mapping[str, str]
+    """Unit per target name ('K', 'W', ... or '' when unknown)."""
+    roles: Mapping[str, np.ndarray]
+    variables: Mapping[str, Variable]
+    """Every variable of the model (to tell whether a switch parameter exists)."""
+
+    def role(self, name: str) -> np.ndarray | None:
+        return self.roles.get(name)
+
+    @property
+    def temperature_targets(self) -> list[str]:
+        return [t for t, u in self.units.items() if u == "K"]
+
+    def since_change(self, state: np.ndarray, rising: bool) -> np.ndarray:
+        """Seconds since the last switch on (``rising``) or off of a 0/1 ``state``, restarting
+        at each segment (``inf`` before the first switch of a segment)."""
+        state = np.asarray(state) > 0.5
+        out = np.full(len(state), np.inf)
+        last = -np.inf
+        for i in range(len(state)):
+            if i == 0 or self.segment[i] != self.segment[i - 1]:
+                last = -np.inf
+            elif state[i] != state[i - 1] and state[i] == rising:
+                last = self.time[i]
+            out[i] = self.time[i] - last
+        return out
+
+    def derivative(self, values: np.ndarray) -> np.ndarray:
+        """Time derivative per second, zero at segment joins."""
+        d = np.zeros(len(values))
+        dt = np.diff(self.time)
+        same = np.diff(self.segment) == 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(same & (dt > 0), np.diff(values) / np.where(dt > 0, dt, 1.0), 0.0)
+        d[1:] = step
+        return d
+
+
+class Effect(ABC):
+    """A physical or control effect a model may lack, as a gap diagnosis sees it.
+
+    An effect says when it applies (:meth:`applies`), what it leaves in the residual
+    (:meth:`signature`: features whose linear combination should match measured − simulated
+    where the effect is missing) and how to add it (:meth:`addition`).
+    """
+
+    name: ClassVar[str]
+    description: ClassVar[str] = ""
+    """One sentence an engineer understands: what the effect is physically."""
+    evidence: ClassVar[str] = ""
+    """What it looks like in the data (shown beside the ranking)."""
+
+    def applies(self, data: DiagnosisData) -> str | None:
+        """None if the effect can be tested on this model and data, else why not."""
+        return None
+
+    @abstractmethod
+    def signature(self, data: DiagnosisData) -> Mapping[str, np.ndarray]:
+        """Features (name -> series on ``data.time``) that the residual of an unmodelled
+        occurrence of this effect resembles. A few well-chosen columns beat many."""
+
+    def addition(self, data: DiagnosisData) -> EffectAddition | None:
+        """How to add the effect to this model (switch and tuners), or None if it cannot be."""
+        return None

@@ -23,6 +23,7 @@ KINDS = {
     "register_simulators": "simulator",
     "register_metrics": "metric",
     "register_optimisers": "optimiser",
+    "register_effects": "effect",
 }
 
 

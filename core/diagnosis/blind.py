@@ -1,0 +1,134 @@
+"""Blind test cases for the gap diagnosis: synthetic data with a withheld effect, a base workflow.
+
+Used by ``benchmarks/diagnosis_blind.py`` and the CI test. A case writes measured data with
+``simgap.synth.write_dataset`` (the effect switched on, or nothing for a null case) and a
+workflow that calibrates the base model (every effect off) on it. The diagnosis is then run on
+the calibration without being told what was withheld.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Mapping
+
+from ruamel.yaml import YAML
+
+from .. import synth
+
+# The tuners a small-budget base calibration searches, per model, and the true values the
+# synthetic "measurement" uses (away from the defaults, so the calibration has work to do).
+BLIND_TUNERS: dict[str, dict[str, float]] = {
+    "air_source_hp": {"scaleHPQCon_nominal": 0.9, "scaleHPPEl_nominal": 0.85, "tauVolCon": 150.0},
+    "water_to_water_hp": {"THeaCurY2_K": 302.15, "nInf_1_h": 0.12, "dTGenSto": 2.0},
+    "brine_water_hp": {"etaCarnot_nominal": 0.4318, "PEle_nominal": 1884.2},
+}
+
+_WORKFLOW_SHAPE = {
+    "air_source_hp": dict(
+        targets=[("THCFlow_K", ["rmse"]), ("PEl_W", ["cvrmse"])],
+        warmup="30min",
+        # a logger's interval means compared with a simulation sampled at the interval start lead
+        # by half an interval: at 10 s that is small against the effects' time constants
+        resolution=10.0,
+        seasons=("winter", "autumn"),
+        days=1,
+        noise={"THCFlow_K": 0.05, "PEl_W": 10.0},
+    ),
+    "water_to_water_hp": dict(
+        targets=[("PEl_W", ["cvrmse"]), ("TSup_K", ["rmse"])],
+        warmup="1d",
+        resolution="5min",
+        seasons=("winter",),
+        days=4,
+        noise={"TSup_K": 0.05, "PEl_W": 100.0},
+    ),
+}
+
+
+@dataclass
+class BlindCase:
+    model: str
+    effect: str | None
+    """The withheld effect; None for a null case."""
+    strength: Mapping[str, float] = field(default_factory=dict)
+    seed: int = 1
+    seasons: tuple[str, ...] | None = None
+    days: int | None = None
+    noise_scale: float = 1.0
+    population: int = 16
+    generations: int = 6
+
+    @property
+    def label(self) -> str:
+        what = self.effect or "null"
+        extra = ",".join(f"{k}={v:g}" for k, v in self.strength.items())
+        return f"{self.model}:{what}{'(' + extra + ')' if extra else ''}:seed{self.seed}"
+
+
+def write_case(case: BlindCase, folder: Path) -> Path:
+    """Write the measured data and the base-model workflow of ``case``; returns the workflow path."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    shape = _WORKFLOW_SHAPE[case.model]
+    spec = synth.MODELS[case.model]
+    truth = dict(BLIND_TUNERS[case.model])
+    effects = {case.effect: dict(case.strength)} if case.effect else None
+    noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
+    data = synth.write_dataset(
+        folder / "measured.parquet",
+        case.model,
+        seasons=case.seasons or shape["seasons"],
+        days_per_season=case.days or shape["days"],
+        resolution=shape["resolution"],
+        parameters=truth,
+        effects=effects,
+        noise=noise,
+        seed=case.seed,
+    )
+    inputs = {name: name for name in spec.inputs}
+    if case.model == "water_to_water_hp":
+        inputs = {name: name for name in ("TOda_K", "HGloHor_W_m2", "dTZoneSetShift_K")}
+    parameters = []
+    for name in truth:
+        bound = spec.tuners[name]
+        parameters.append({"name": name, "min": bound.lower, "max": bound.upper, "start": bound.default})
+    workflow = {
+        "name": f"blind_{case.model}",
+        "description": f"base model calibration for a blind diagnosis case ({case.label})",
+        "data": {
+            "file": data.data_path.name,
+            "time": "time",
+            "segments": {
+                "training": {"start": "3%", "end": "55%"},
+                "validation": {"start": "55%", "end": "100%"},
+                "warmup": shape["warmup"],
+            },
+        },
+        "simulator": {
+            "plugin": "fmu",
+            "options": {"source": str(synth.models_dir() / spec.folder)},
+            "inputs": inputs,
+        },
+        "parameters": parameters,
+        "targets": [
+            {"name": name, "measured": name, "simulated": name, "metrics": metrics}
+            for name, metrics in shape["targets"]
+        ],
+        "optimiser": {
+            "plugin": "nsga2",
+            "options": {"population": case.population},
+            "seed": case.seed,
+            "budget": {"generations": case.generations},
+        },
+        "execution": {"timeout": "2min"},
+        "output": "runs",
+    }
+    path = folder / "workflow.yaml"
+    buffer = io.StringIO()
+    yaml = YAML()
+    yaml.default_flow_style = False
+    yaml.dump(workflow, buffer)
+    path.write_text(f"# blind case {case.label}\n" + buffer.getvalue())
+    return path

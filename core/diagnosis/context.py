@@ -1,0 +1,323 @@
+"""The diagnosis's starting point: a run folder re-prepared, one solution re-simulated.
+
+Everything later (where, which effect, how far it shrinks) works on :class:`Context`: the
+measured and simulated series of every target on training and validation segments, the
+model's measured inputs on the same time grid, and which series play which role.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from ..config import LoadedWorkflow, Workflow, validation_error
+from ..errors import ConfigError, SimgapError
+from ..evaluation import STATUS_OK, EvaluationSetup, evaluate
+from ..interfaces import DiagnosisData
+from ..results import PARAM, WORKFLOW, Run, load_run
+from ..setup import Prepared, prepare
+from ..yamlfile import read_yaml
+
+ROLES = ("compressor", "outdoor_temperature", "humidity", "flow", "power")
+
+
+class Budget(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    candidates: int = Field(2, ge=0)
+    """How many top-ranked effects are recalibrated (0: rank only)."""
+    population: int = Field(16, ge=4)
+    generations: int = Field(6, ge=1)
+    workers: int | None = Field(None, ge=1)
+
+
+class DiagnoseConfig(BaseModel):
+    """The ``diagnose:`` section of a workflow (every key optional)."""
+
+    model_config = ConfigDict(extra="forbid")
+    solution: Literal["knee"] | int = "knee"
+    roles: dict[str, str] = Field(default_factory=dict)
+    """Role -> model input variable or target name, where the guess from names is wrong."""
+    effects: list[str] | None = None
+    """Effects to test (default: every installed effect that applies)."""
+    significance: float = Field(0.01, gt=0, lt=1)
+    """Largest p-value (circular-shift test) at which an effect counts as significant."""
+    min_share: float = Field(0.10, ge=0, le=1)
+    """Smallest chance-corrected share of the residual an effect must explain to be claimed."""
+    min_shrink: float = Field(0.2, ge=0, le=1)
+    """Smallest validation-gap shrink that confirms a significant effect once recalibrated."""
+    window: str = "1h"
+    """Length of the rolling-error window that localises the gap in time."""
+    recalibrate: Budget = Field(default_factory=Budget)
+
+
+@dataclass
+class Piece:
+    """The series of one segment kind (training or validation)."""
+
+    kind: str
+    setup: EvaluationSetup
+    time: np.ndarray
+    """datetime64[ns]."""
+    seconds: np.ndarray
+    segment: np.ndarray
+    measured: dict[str, np.ndarray]
+    simulated: dict[str, np.ndarray]
+    inputs: dict[str, np.ndarray]
+
+
+@dataclass
+class Context:
+    run: Run
+    prepared: Prepared
+    config: DiagnoseConfig
+    solution_id: int
+    parameters: dict[str, float]
+    pieces: list[Piece]
+    roles: dict[str, str] = field(default_factory=dict)
+    """Role -> name of the series playing it ('input:X', 'sim:Y' or 'derived:...')."""
+    units: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def targets(self) -> list[str]:
+        return list(self.pieces[0].measured)
+
+    def joined(self, which: str) -> dict[str, np.ndarray]:
+        return {name: np.concatenate([getattr(p, which)[name] for p in self.pieces]) for name in getattr(self.pieces[0], which)}
+
+    @property
+    def residual(self) -> dict[str, np.ndarray]:
+        m, s = self.joined("measured"), self.joined("simulated")
+        return {t: m[t] - s[t] for t in m}
+
+    def data(self, simulated: dict[str, np.ndarray] | None = None) -> DiagnosisData:
+        """What effect signatures see (training and validation joined)."""
+        seconds = np.concatenate([p.seconds for p in self.pieces])
+        offset = 0
+        segments = []
+        for p in self.pieces:
+            segments.append(p.segment + offset)
+            offset += int(p.segment.max()) + 1 if len(p.segment) else 0
+        inputs = self.joined("inputs")
+        sim = simulated if simulated is not None else self.joined("simulated")
+        return DiagnosisData(
+            time=seconds - seconds[0],
+            segment=np.concatenate(segments),
+            inputs=inputs,
+            simulated=sim,
+            units=dict(self.units),
+            roles=role_series(self.roles, inputs, sim),
+            variables=self.prepared.simulator.variables(),
+        )
+
+
+# --------------------------------------------------------------------------------------------
+# loading
+
+
+def load_run_workflow(run: Run, workflow: str | Path | None = None) -> LoadedWorkflow:
+    """The run's workflow, with relative paths resolved against the original workflow's folder.
+
+    The run folder keeps a copy of the workflow; its relative paths were written relative to
+    the original file (``summary.json`` "workflow"). If that folder is gone, paths resolve
+    against the run folder. ``workflow`` overrides both.
+    """
+    if workflow is not None:
+        from ..config import load_workflow
+
+        return load_workflow(workflow)
+    copy = run.dir / WORKFLOW
+    if not copy.is_file():
+        raise SimgapError(f"{run.dir}: no {WORKFLOW} in the run folder; pass --workflow")
+    doc = read_yaml(copy)
+    original = run.summary.get("workflow")
+    if original and Path(original).parent.is_dir():
+        doc = dataclasses.replace(doc, path=Path(original).resolve())
+    try:
+        model = Workflow.model_validate(doc.data)
+    except ValidationError as exc:
+        raise validation_error(doc, exc) from None
+    return LoadedWorkflow(doc, model)
+
+
+def diagnose_config(wf: LoadedWorkflow, overrides: dict[str, Any] | None = None) -> DiagnoseConfig:
+    data = dict(wf.model.diagnose or {})
+    for key, value in (overrides or {}).items():
+        if value is None:
+            continue
+        if isinstance(value, dict) and isinstance(data.get(key), dict):
+            data[key] = {**data[key], **value}
+        else:
+            data[key] = value
+    try:
+        return DiagnoseConfig.model_validate(data)
+    except ValidationError as exc:
+        raise validation_error(wf.doc, exc, prefix=("diagnose",)) from None
+
+
+def solution_parameters(run: Run, names: tuple[str, ...], solution) -> tuple[int, dict[str, float]]:
+    if solution == "knee":
+        knee = run.knee
+        if knee is None:
+            raise SimgapError(f"{run.dir}: the run has no front (pareto.parquet) to take the knee from; give --solution ID")
+        row = knee
+    else:
+        rows = run.evaluations[run.evaluations["eval_id"] == int(solution)]
+        if rows.empty:
+            raise SimgapError(f"{run.dir}: no evaluation with eval_id {solution}")
+        row = rows.iloc[0]
+        if row["status"] != STATUS_OK:
+            raise SimgapError(f"{run.dir}: evaluation {solution} failed ({row['error']}); choose a successful one")
+    return int(row["eval_id"]), {n: float(row[PARAM + n]) for n in names}
+
+
+def simulate(setup: EvaluationSetup, params: dict[str, float]) -> dict[str, np.ndarray] | None:
+    """Simulated target series for ``params`` (None if the simulation fails)."""
+    row = evaluate(setup, -1, params, keep_series=True)
+    if row["status"] != STATUS_OK:
+        return None
+    return {name: _first_column(values) for name, values in row["series"].items()}
+
+
+def _first_column(values: np.ndarray) -> np.ndarray:
+    values = np.asarray(values, dtype=float)
+    return values if values.ndim == 1 else values[:, 0]
+
+
+def _piece(kind: str, setup: EvaluationSetup, simulated: dict[str, np.ndarray]) -> Piece:
+    inputs: dict[str, list] = {}
+    segment, seconds = [], []
+    for i, case in enumerate(setup.cases):
+        for name, values in case.inputs.items():
+            inputs.setdefault(name, []).append(np.interp(case.output_time, case.input_time, values))
+        segment.append(np.full(len(case.output_time), i))
+        seconds.append(np.asarray(case.output_time, dtype=float))
+    return Piece(
+        kind=kind,
+        setup=setup,
+        time=setup.targets[0].time,
+        seconds=np.concatenate(seconds),
+        segment=np.concatenate(segment),
+        measured={t.name: _first_column(t.measured) for t in setup.targets},
+        simulated=simulated,
+        inputs={k: np.concatenate(v) for k, v in inputs.items()},
+    )
+
+
+def build_context(run_dir, *, solution=None, workflow=None, overrides: dict | None = None) -> Context:
+    run = load_run(run_dir)
+    wf = load_run_workflow(run, workflow)
+    config = diagnose_config(wf, {"solution": solution, **(overrides or {})})
+    prepared = prepare(wf)
+    solution_id, params = solution_parameters(run, prepared.space.names, config.solution)
+    pieces = []
+    for kind, setup in (("training", prepared.training), ("validation", prepared.validation)):
+        if setup is None:
+            continue
+        simulated = simulate(setup, params)
+        if simulated is None:
+            row = evaluate(setup, -1, params)
+            raise SimgapError(f"solution {solution_id} fails to simulate on the {kind} segments: {row['error']}")
+        pieces.append(_piece(kind, setup, simulated))
+    ctx = Context(run=run, prepared=prepared, config=config, solution_id=solution_id, parameters=params, pieces=pieces)
+    ctx.units = guess_units(ctx)
+    ctx.roles = guess_roles(ctx)
+    return ctx
+
+
+# --------------------------------------------------------------------------------------------
+# roles
+
+_ROLE_PATTERNS = {
+    "compressor": r"compressor|comp\b|nspeedhp|ycomp|hpon|speedhp|y_?hp\b|ncomp",
+    "outdoor_temperature": r"oda|outdoor|outside|t_?out\b|t_?amb_?out|^teva_k$",
+    "humidity": r"relhum|humidity|\brh\b|phi_?oda",
+    "flow": r"m_?flow|mflow|flow_?kg|vflow|v_?flow",
+    "power": r"pel|p_?el|power|^p_|_w$",
+}
+
+
+def guess_units(ctx: Context) -> dict[str, str]:
+    """'K' for targets that look like temperatures (name and values), else ''."""
+    units = {}
+    for name, values in ctx.joined("measured").items():
+        mean = float(np.nanmean(values))
+        looks_temperature = re.match(r"^t", name, re.I) is not None
+        units[name] = "K" if looks_temperature and (200.0 < mean < 420.0 or -40.0 < mean < 120.0) else ""
+    return units
+
+
+def guess_roles(ctx: Context) -> dict[str, str]:
+    """Role -> series ('input:NAME', 'sim:TARGET', 'derived:compressor from sim:TARGET')."""
+    explicit = dict(ctx.config.roles)
+    inputs = list(ctx.pieces[0].inputs)
+    targets = ctx.targets
+    roles: dict[str, str] = {}
+    for role, name in explicit.items():
+        if role not in ROLES:
+            raise ConfigError(f"diagnose.roles: unknown role {role!r}; roles are {', '.join(ROLES)}")
+        if name in inputs:
+            roles[role] = f"input:{name}"
+        elif name in targets:
+            roles[role] = f"sim:{name}"
+        else:
+            raise ConfigError(f"diagnose.roles.{role}: {name!r} is neither a model input ({', '.join(inputs)}) nor a target ({', '.join(targets)})")
+    for role, pattern in _ROLE_PATTERNS.items():
+        if role in roles:
+            continue
+        pool = targets if role == "power" else inputs
+        for name in pool:
+            if re.search(pattern, name, re.I):
+                roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
+                break
+    if "compressor" not in roles and "power" in roles:
+        # no compressor signal among the inputs: the simulated power tells when it runs
+        roles["compressor"] = f"derived:{roles['power']}"
+    return roles
+
+
+def role_series(roles: dict[str, str], inputs: dict, simulated: dict) -> dict[str, np.ndarray]:
+    out = {}
+    for role, ref in roles.items():
+        kind, _, name = ref.partition(":")
+        if kind == "input":
+            out[role] = np.asarray(inputs[name], dtype=float)
+        elif kind == "sim":
+            out[role] = np.asarray(simulated[name], dtype=float)
+        elif kind == "derived":
+            base = role_series({"x": name}, inputs, simulated)["x"]
+            out[role] = running_level(base)
+    return out
+
+
+def running_level(power: np.ndarray) -> np.ndarray:
+    """0..1 compressor level from an electric power series: 0 at standby, 1 at the 95th percentile."""
+    low = float(np.nanpercentile(power, 2))
+    high = float(np.nanpercentile(power, 95))
+    if not high > low:
+        return np.zeros(len(power))
+    level = np.clip((power - low) / (high - low), 0.0, 1.0)
+    # standby and pump-only power are not the compressor: below 15 % of the span counts as off
+    return np.where(level < 0.15, 0.0, level)
+
+
+def compressor_state(data: DiagnosisData) -> np.ndarray | None:
+    level = data.role("compressor")
+    return None if level is None else (np.asarray(level) > 0.05).astype(float)
+
+
+def isfinite_all(*arrays) -> np.ndarray:
+    mask = np.ones(len(arrays[0]), dtype=bool)
+    for a in arrays:
+        mask &= np.isfinite(a)
+    return mask
+
+
+def nan_percent(value: float) -> float:
+    return value * 100.0 if math.isfinite(value) else math.nan

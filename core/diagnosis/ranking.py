@@ -1,0 +1,260 @@
+"""Which effect: rank candidate effects by how much of the residual their signature explains.
+
+Per target, the residual (measured − simulated, training and validation joined) is first
+cleared of what the model's own tuners could still absorb: a constant offset and the
+finite-difference sensitivity of the output to every tuner at the diagnosed solution. An
+effect's features (its declared signature plus, where the model can take the effect, the
+simulated change when it is switched on) are cleared the same way; the effect's share is the
+fraction of the remaining residual they explain by least squares.
+
+Significance keeps the residual's autocorrelation: the features are shifted circularly against
+the residual by every lag farther than a tenth of the record from zero, and the p-value is
+the share of lags that explain at least as much. The chance-corrected share subtracts the
+median over those lags, so an effect with many columns gains nothing by their number. Because
+circular shifts keep the features' Gram matrix, all lags cost one FFT per feature.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..interfaces import Effect, EffectAddition
+from .context import Context, simulate
+
+
+@dataclass
+class Candidate:
+    name: str
+    description: str
+    evidence: str
+    applicable: bool
+    reason: str = ""
+    addition: EffectAddition | None = None
+    features: list[str] = field(default_factory=list)
+    share: float = 0.0
+    """Chance-corrected share of the residual (beyond the tuners) explained, mean over targets."""
+    raw_share: float = 0.0
+    p_value: float = 1.0
+    per_target: dict[str, dict] = field(default_factory=dict)
+    significant: bool = False
+    """Passes the screening: p-value and share thresholds."""
+    gap_shrink: float | None = None
+    """Validation-gap shrink once recalibrated with the effect (None: not recalibrated)."""
+    min_shrink: float = 0.0
+    fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    """Per target, the part of the residual the effect's features reproduce."""
+
+    @property
+    def claimed(self) -> bool:
+        """Significant, and where a recalibration ran, confirmed by a real shrink of the gap."""
+        if not self.significant:
+            return False
+        return self.gap_shrink is None or self.gap_shrink >= self.min_shrink
+
+    def as_dict(self) -> dict:
+        return {
+            "name": self.name,
+            "description": self.description,
+            "evidence": self.evidence,
+            "applicable": self.applicable,
+            "reason": self.reason,
+            "can_add": self.addition is not None,
+            "features": self.features,
+            "share": self.share,
+            "raw_share": self.raw_share,
+            "p_value": self.p_value,
+            "significant": self.significant,
+            "gap_shrink": self.gap_shrink,
+            "claimed": self.claimed,
+            "per_target": self.per_target,
+        }
+
+
+def _standardise(columns: dict[str, np.ndarray], mask: np.ndarray) -> tuple[list[str], np.ndarray]:
+    names, cols = [], []
+    for name, values in columns.items():
+        v = np.asarray(values, dtype=float)[mask]
+        v = np.where(np.isfinite(v), v, 0.0)
+        sd = float(np.std(v))
+        if sd > 1e-12:
+            names.append(name)
+            cols.append((v - v.mean()) / sd)
+    return names, (np.column_stack(cols) if cols else np.zeros((int(mask.sum()), 0)))
+
+
+def _clear(matrix: np.ndarray, nuisance: np.ndarray) -> np.ndarray:
+    if nuisance.shape[1] == 0 or matrix.size == 0:
+        return matrix
+    coef, *_ = np.linalg.lstsq(nuisance, matrix, rcond=None)
+    return matrix - nuisance @ coef
+
+
+def _independent(X: np.ndarray, tol: float = 1e-6) -> np.ndarray:
+    """Drop near-collinear columns so the Gram matrix is well conditioned."""
+    if X.shape[1] <= 1:
+        return X
+    q, r = np.linalg.qr(X)
+    d = np.abs(np.diag(r))
+    keep = d > tol * max(d.max(), 1e-300)
+    return X[:, keep]
+
+
+def shift_test(r: np.ndarray, X: np.ndarray, exclusion: float = 0.1) -> tuple[float, float, float, np.ndarray]:
+    """(observed share, median share over shifts, p-value, fitted) of ``r`` regressed on ``X``."""
+    n = len(r)
+    ss = float(r @ r)
+    if X.shape[1] == 0 or ss <= 0:
+        return 0.0, 0.0, 1.0, np.zeros(n)
+    X = _independent(X)
+    gram = X.T @ X
+    gram_inv = np.linalg.pinv(gram)
+    # cross-correlation of every column with r at every circular lag
+    fr = np.fft.rfft(r)
+    fx = np.fft.rfft(X, axis=0)
+    c = np.fft.irfft(np.conj(fx) * fr[:, None], n=n, axis=0)  # c[k, j] = sum_i X[i, j] r[i + k]
+    explained = np.einsum("kj,jl,kl->k", c, gram_inv, c) / ss
+    observed = float(explained[0])
+    lags = np.arange(n)
+    far = (lags > exclusion * n) & (lags < (1 - exclusion) * n)
+    null = explained[far]
+    if null.size == 0:
+        return observed, 0.0, 1.0, X @ (gram_inv @ (X.T @ r))
+    p = (1.0 + float(np.sum(null >= observed))) / (1.0 + null.size)
+    fitted = X @ (gram_inv @ (X.T @ r))
+    return observed, float(np.median(null)), p, fitted
+
+
+@dataclass
+class Nuisance:
+    """Per target: the tuners' sensitivity columns (what recalibration alone could absorb)."""
+
+    columns: dict[str, dict[str, np.ndarray]]
+
+
+def tuner_sensitivities(ctx: Context, step: float = 0.05) -> Nuisance:
+    """Finite-difference sensitivity of every target to every tuner, at the solution."""
+    space = ctx.prepared.space
+    names = list(space.names)
+    x = space.to_unit(np.array([[ctx.parameters[n] for n in names]]))[0]
+    out: dict[str, dict[str, np.ndarray]] = {t: {} for t in ctx.targets}
+    base = ctx.joined("simulated")
+    for j, name in enumerate(names):
+        xp = x.copy()
+        xp[j] = x[j] + step if x[j] + step <= 1.0 else x[j] - step
+        params = space.as_dicts(space.from_unit(xp[None, :]))[0]
+        series = _simulate_all(ctx, params)
+        if series is None:
+            continue
+        for t in ctx.targets:
+            out[t][f"tuner {name}"] = series[t] - base[t]
+    return Nuisance(out)
+
+
+def _simulate_all(ctx: Context, params: dict[str, float]) -> dict[str, np.ndarray] | None:
+    parts = []
+    for piece in ctx.pieces:
+        s = simulate(piece.setup, params)
+        if s is None:
+            return None
+        parts.append(s)
+    return {t: np.concatenate([p[t] for p in parts]) for t in ctx.targets}
+
+
+def effect_responses(ctx: Context, addition: EffectAddition) -> list[dict[str, np.ndarray]]:
+    """Simulated change of every target with the effect switched on, at a typical and a strong setting."""
+    base = ctx.joined("simulated")
+    settings = [{p.name: p.default for p in addition.parameters}, {p.name: _stronger(p) for p in addition.parameters}]
+    out = []
+    for values in settings:
+        series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values})
+        if series is not None:
+            out.append({t: series[t] - base[t] for t in ctx.targets})
+    return out
+
+
+def _stronger(p) -> float:
+    """Halfway from the typical value to the farther bound (in the parameter's own scale)."""
+    if p.scale == "log" and p.lower > 0:
+        lo, hi, d = math.log(p.lower), math.log(p.upper), math.log(max(p.default, p.lower))
+        far = hi if hi - d >= d - lo else lo
+        return math.exp(d + 0.5 * (far - d))
+    far = p.upper if p.upper - p.default >= p.default - p.lower else p.lower
+    return p.default + 0.5 * (far - p.default)
+
+
+def switching_instants(data) -> dict[str, np.ndarray]:
+    """Indicators of the samples at and just after each compressor switch.
+
+    A logger's interval mean and a simulation sampled at the same label disagree at a switch
+    that falls inside the interval: that misfit belongs to the time resolution, not to any
+    effect, so it is taken out with the tuners' sensitivities.
+    """
+    level = data.role("compressor")
+    if level is None:
+        return {}
+    on = np.asarray(level) > 0.05
+    same = np.r_[False, data.segment[1:] == data.segment[:-1]]
+    start = np.r_[False, on[1:] & ~on[:-1]] & same
+    stop = np.r_[False, ~on[1:] & on[:-1]] & same
+    out = {}
+    for name, event in (("start", start), ("stop", stop)):
+        for k in (-1, 0, 1):
+            out[f"{name} sample {k:+d}"] = np.roll(event, k).astype(float)
+    return out
+
+
+def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None = None) -> list[Candidate]:
+    data = ctx.data()
+    residual = ctx.residual
+    config = ctx.config
+    candidates: list[Candidate] = []
+    # per target: mask, the residual cleared of offset and tuner sensitivities, its nuisance
+    prepared_targets = {}
+    instants = switching_instants(data)
+    for t in ctx.targets:
+        r = residual[t]
+        mask = np.isfinite(r)
+        sens = {**(nuisance.columns.get(t, {}) if nuisance else {}), **instants}
+        _, N = _standardise(sens, mask)
+        N = np.column_stack([np.ones(int(mask.sum())), N]) if N.size else np.ones((int(mask.sum()), 1))
+        rt = _clear(r[mask][:, None], N)[:, 0]
+        prepared_targets[t] = (mask, N, rt)
+    for effect in effects:
+        reason = effect.applies(data)
+        cand = Candidate(effect.name, effect.description, effect.evidence, applicable=reason is None, reason=reason or "")
+        candidates.append(cand)
+        if reason is not None:
+            continue
+        features = dict(effect.signature(data))
+        addition = effect.addition(data)
+        cand.addition = addition
+        responses = effect_responses(ctx, addition) if addition is not None else []
+        shares, raws, ps = [], [], []
+        for t, (mask, N, rt) in prepared_targets.items():
+            # the simulated change is the sharper signature; the declared features stand in
+            # where the model cannot take the effect
+            cols = {} if responses else dict(features)
+            for k, resp in enumerate(responses):
+                cols[f"simulated change of {t} with the effect on ({'typical' if k == 0 else 'strong'})"] = resp[t]
+            names, X = _standardise(cols, mask)
+            X = _clear(X, N)
+            observed, chance, p, fitted = shift_test(rt, X)
+            full = np.full(len(mask), np.nan)
+            full[mask] = fitted
+            cand.fitted[t] = full
+            cand.per_target[t] = {"share": observed, "chance": chance, "p_value": p}
+            shares.append(observed - chance)
+            raws.append(observed)
+            ps.append(p)
+            cand.features = sorted(set(cand.features) | set(names))
+        cand.share = float(np.mean(shares)) if shares else 0.0
+        cand.raw_share = float(np.mean(raws)) if raws else 0.0
+        # one effect, several targets: Bonferroni over the targets it was tested on
+        cand.p_value = float(min(1.0, min(ps) * len(ps))) if ps else 1.0
+        cand.significant = cand.p_value <= config.significance and cand.share >= config.min_share
+        cand.min_shrink = config.min_shrink
+    candidates.sort(key=lambda c: (not c.applicable, -c.share))
+    return candidates

@@ -1,0 +1,278 @@
+"""The diagnosis report: report.md with PNG figures, and diagnosis.json for machines."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .context import Context
+from .where import rolling_error, worst_windows
+
+
+def _fmt(v, digits=3) -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    return str(v)
+
+
+def _pct(v) -> str:
+    return "–" if v is None or not math.isfinite(v) else f"{100 * v:.0f} %"
+
+
+def figures(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path) -> dict[str, str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    folder.mkdir(parents=True, exist_ok=True)
+    out = {}
+    window = where["window_s"]
+    targets = ctx.targets
+    # 1. residual over time with the worst windows shaded
+    fig, axes = plt.subplots(len(targets), len(ctx.pieces), figsize=(6 * len(ctx.pieces), 2.8 * len(targets)), squeeze=False)
+    for i, t in enumerate(targets):
+        for j, piece in enumerate(ctx.pieces):
+            ax = axes[i][j]
+            e = piece.measured[t] - piece.simulated[t]
+            ax.plot(piece.time, e, lw=0.6, color="0.4", label="measured − simulated")
+            roll = rolling_error(e, piece.seconds, window)
+            ax.plot(piece.time, roll, lw=1.2, color="tab:red", label=f"rolling RMS ({window / 3600:g} h)")
+            for lo, hi in worst_windows(roll, piece.seconds, window):
+                ax.axvspan(piece.time[lo], piece.time[hi - 1], color="tab:orange", alpha=0.25)
+            ax.axhline(0, color="k", lw=0.5)
+            ax.set_title(f"{t} — {piece.kind}", fontsize=9)
+            ax.tick_params(labelsize=7)
+            if i == 0 and j == 0:
+                ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(folder / "residuals.png", dpi=110)
+    plt.close(fig)
+    out["residuals"] = "figures/residuals.png"
+    # 2. error by regime: share of squared error vs share of time
+    if any(where["regimes"].values()):
+        fig, axes = plt.subplots(1, len(targets), figsize=(5.5 * len(targets), 3.6), squeeze=False)
+        for i, t in enumerate(targets):
+            rows = where["regimes"][t]
+            names = list(rows)
+            y = np.arange(len(names))
+            ax = axes[0][i]
+            ax.barh(y - 0.2, [rows[n]["error_share"] for n in names], height=0.4, color="tab:red", label="share of squared error")
+            ax.barh(y + 0.2, [rows[n]["time_share"] for n in names], height=0.4, color="0.7", label="share of time")
+            ax.set_yticks(y, names, fontsize=7)
+            ax.set_title(t, fontsize=9)
+            ax.invert_yaxis()
+            if i == 0:
+                ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(folder / "regimes.png", dpi=110)
+        plt.close(fig)
+        out["regimes"] = "figures/regimes.png"
+    # 3. ranking
+    tested = [c for c in candidates if c.applicable]
+    if tested:
+        fig, ax = plt.subplots(figsize=(6.5, 0.45 * len(tested) + 1.2))
+        y = np.arange(len(tested))
+        colours = ["tab:green" if c.significant else "0.6" for c in tested]
+        ax.barh(y, [max(c.share, 0.0) for c in tested], color=colours)
+        ax.set_yticks(y, [f"{c.name} (p={c.p_value:.3g})" for c in tested], fontsize=8)
+        ax.axvline(ctx.config.min_share, color="k", ls="--", lw=0.8, label=f"claim threshold {ctx.config.min_share:.0%}")
+        ax.invert_yaxis()
+        ax.set_xlabel("share of the residual explained beyond the tuners (chance-corrected)")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(folder / "ranking.png", dpi=110)
+        plt.close(fig)
+        out["ranking"] = "figures/ranking.png"
+    # 4. top candidate's fitted signature over the residual
+    top = tested[0] if tested else None
+    if top is not None and top.fitted:
+        fig, axes = plt.subplots(len(targets), 1, figsize=(11, 2.6 * len(targets)), squeeze=False)
+        time = np.concatenate([p.time for p in ctx.pieces])
+        residual = ctx.residual
+        for i, t in enumerate(targets):
+            ax = axes[i][0]
+            r = residual[t] - np.nanmean(residual[t])
+            ax.plot(time, r, lw=0.6, color="0.5", label="residual (mean removed)")
+            if t in top.fitted:
+                ax.plot(time, top.fitted[t], lw=0.9, color="tab:green", label=f"{top.name} signature fit")
+            ax.set_title(t, fontsize=9)
+            ax.tick_params(labelsize=7)
+            ax.legend(fontsize=7, loc="upper right")
+        fig.tight_layout()
+        fig.savefig(folder / "top_effect.png", dpi=110)
+        plt.close(fig)
+        out["top_effect"] = "figures/top_effect.png"
+    # 5. before / after
+    if shrink:
+        done = [s for s in shrink if s.get("after")]
+        if done:
+            cols = list(done[0]["before"])
+            fig, axes = plt.subplots(1, len(cols), figsize=(3.2 * len(cols), 3.2), squeeze=False)
+            for k, col in enumerate(cols):
+                ax = axes[0][k]
+                labels = ["calibrated"] + [f"+ {s['effect']}" for s in done]
+                values = [done[0]["before"][col]] + [s["after"].get(col, math.nan) for s in done]
+                ax.bar(range(len(values)), values, color=["0.6"] + ["tab:green"] * len(done))
+                ax.set_xticks(range(len(values)), labels, rotation=30, ha="right", fontsize=7)
+                ax.set_title(f"validation {col}", fontsize=8)
+            fig.tight_layout()
+            fig.savefig(folder / "before_after.png", dpi=110)
+            plt.close(fig)
+            out["before_after"] = "figures/before_after.png"
+    return out
+
+
+def verdict(candidates) -> str:
+    claimed = [c for c in candidates if c.claimed]
+    if not claimed:
+        return "no significant unmodelled effect"
+    return f"most likely unmodelled effect: {claimed[0].name}"
+
+
+def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    figs = figures(ctx, where, candidates, shrink, folder / "figures")
+    claimed = [c for c in candidates if c.claimed]
+    payload = {
+        "run": str(ctx.run.dir),
+        "solution": ctx.solution_id,
+        "parameters": ctx.parameters,
+        "roles": ctx.roles,
+        "verdict": verdict(candidates),
+        "claimed": [c.name for c in claimed],
+        "where": where,
+        "ranking": [c.as_dict() for c in candidates],
+        "recalibration": shrink,
+        "settings": ctx.config.model_dump(),
+        "timing": timing,
+        "figures": figs,
+    }
+    (folder / "diagnosis.json").write_text(json.dumps(payload, indent=2, default=_default) + "\n")
+    (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs))
+    return folder
+
+
+def _default(v):
+    if isinstance(v, (np.floating, np.integer)):
+        return v.item()
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    return str(v)
+
+
+def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
+    name = ctx.prepared.wf.model.name or ctx.prepared.wf.path.stem
+    lines = [f"# Gap diagnosis — {name}", ""]
+    lines += [
+        f"Run `{ctx.run.dir.name}`, solution {ctx.solution_id} ({'knee of the front' if ctx.config.solution == 'knee' else 'chosen by id'}): "
+        + ", ".join(f"{k} = {v:.4g}" for k, v in ctx.parameters.items())
+        + ".",
+        "",
+        f"**Verdict: {verdict(candidates)}.**",
+        "",
+    ]
+    claimed = [c for c in candidates if c.claimed]
+    if claimed:
+        top = claimed[0]
+        lines.append(
+            f"Its signature explains {top.share:.0%} of what is left of the residual once the tuners have done "
+            f"what they can (p = {top.p_value:.2g}). {top.description.capitalize()}. In the data: {top.evidence}."
+        )
+        best = next((s for s in shrink if s["effect"] == top.name and s.get("after")), None)
+        if best:
+            lines.append(f"Recalibrated with it, the validation gap shrinks by {best['gap_shrink']:.0%} (table below).")
+        lines.append("")
+    # part 1
+    lines += ["## 1. Where the gap lies", ""]
+    lines += ["| target | data | RMSE | MBE | CV(RMSE) | bias / amplitude / timing share of MSE | best lag | worst window |", "|---|---|---|---|---|---|---|---|"]
+    for t, kinds in where["targets"].items():
+        for kind, s in kinds.items():
+            worst = s["worst_windows"][0] if s.get("worst_windows") else None
+            wtxt = f"{worst['start'][:16]} … {worst['end'][11:16]} (RMS {worst['rms_error']:.3g})" if worst else "–"
+            lines.append(
+                f"| {t} | {kind} | {_fmt(s.get('rmse'))} | {_fmt(s.get('mbe'))} ({_fmt(s.get('mbe_percent'), 2)} %) | {_fmt(s.get('cvrmse'))} | "
+                f"{_pct(s.get('bias_share'))} / {_pct(s.get('amplitude_share'))} / {_pct(s.get('timing_share'))} | "
+                f"{_fmt(s.get('lag_s'))} s | {wtxt} |"
+            )
+    lines += ["", "MBE is simulated − measured. The MSE split: bias² + (σsim − σmeas)² + 2σσ(1 − r): "
+              "a large timing share means the model has the right shape at the wrong time; a positive best lag means the "
+              "measurement follows the simulation late (a lag the model lacks).", ""]
+    if "residuals" in figs:
+        lines += [f"![residuals over time]({figs['residuals']})", "", "Shaded: the worst windows.", ""]
+    if where["regimes"]:
+        lines += ["### By operating regime", "", "| target | regime | share of time | share of squared error | RMSE | MBE |", "|---|---|---|---|---|---|"]
+        for t, rows in where["regimes"].items():
+            for regime, r in sorted(rows.items(), key=lambda kv: -kv[1]["error_share"]):
+                flag = " **←**" if r["error_share"] > 1.5 * r["time_share"] and r["error_share"] > 0.1 else ""
+                lines.append(f"| {t} | {regime}{flag} | {_pct(r['time_share'])} | {_pct(r['error_share'])} | {_fmt(r['rmse'])} | {_fmt(r['mbe'])} |")
+        lines += ["", "**←**: the regime holds clearly more of the error than of the time.", ""]
+        if "regimes" in figs:
+            lines += [f"![error by regime]({figs['regimes']})", ""]
+    if where["cycles"]:
+        lines += ["### On/off cycles (from electric power)", "", "| data | starts measured | starts simulated | mean on (min) meas / sim | mean off (min) meas / sim |", "|---|---|---|---|---|"]
+        for kind, c in where["cycles"].items():
+            m, s = c["measured"], c["simulated"]
+            lines.append(
+                f"| {kind} | {m['starts']} | {s['starts']} | {_fmt(m['mean_on_s'] / 60)} / {_fmt(s['mean_on_s'] / 60)} | "
+                f"{_fmt(m['mean_off_s'] / 60)} / {_fmt(s['mean_off_s'] / 60)} |"
+            )
+        lines.append("")
+    # part 2
+    lines += ["## 2. Which effect", "",
+              "Each candidate's signature (features computed from the inputs and the simulation, plus the simulated change "
+              "when the effect is switched on, where the model can take it) is regressed on the residual of every target, "
+              "after removing what a re-tuning of the existing parameters could absorb. *Share* is the chance-corrected "
+              "fraction explained (mean over targets); *p* comes from shifting the signature in time against the residual "
+              "(autocorrelation kept). An effect is claimed at p ≤ "
+              f"{ctx.config.significance:g} and share ≥ {ctx.config.min_share:.0%} (*significant*); the significant ones "
+              f"are recalibrated with the effect added (part 3) and claimed only if the validation gap shrinks by at least "
+              f"{ctx.config.min_shrink:.0%}. The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
+    lines += ["| rank | effect | share | p | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    rank = 0
+    for c in candidates:
+        if not c.applicable:
+            continue
+        rank += 1
+        per = "; ".join(f"{t}: {v['share']:.0%}, {v['p_value']:.2g}" for t, v in c.per_target.items())
+        shrunk = "not recalibrated" if c.gap_shrink is None else _pct(c.gap_shrink)
+        lines.append(
+            f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
+            f"{'**yes**' if c.claimed else 'no'} | {c.description} |"
+        )
+    skipped = [c for c in candidates if not c.applicable]
+    if skipped:
+        lines += ["", "Not tested: " + "; ".join(f"{c.name} ({c.reason})" for c in skipped) + "."]
+    lines.append("")
+    for key, caption in (("ranking", "ranking"), ("top_effect", "top candidate's signature fitted to the residual")):
+        if key in figs:
+            lines += [f"![{caption}]({figs[key]})", ""]
+    # part 3
+    lines += ["## 3. How far the gap shrinks", ""]
+    if not shrink:
+        lines += ["No recalibration was run (no candidate could be added to the model, or the budget is 0).", ""]
+    for s in shrink:
+        lines.append(f"### + {s['effect']}")
+        lines.append("")
+        if not s.get("after"):
+            lines += [f"Not recalibrated: {s.get('error', 'no result')}", ""]
+            continue
+        lines.append(
+            f"Recalibrated with the original tuners (narrowed around the solution) and "
+            + ", ".join(f"{k} = {v:.4g}" for k, v in s["effect_parameters"].items())
+            + f" found; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
+        )
+        lines += ["", "| validation metric | before | after | shrink |", "|---|---|---|---|"]
+        for col, before in s["before"].items():
+            after = s["after"].get(col, math.nan)
+            lines.append(f"| {col} | {_fmt(before)} | {_fmt(after)} | {_pct(s['shrink'].get(col, math.nan))} |")
+        lines += ["", f"Gap shrink (weighted by where the effect's signature acts): **{s['gap_shrink']:.0%}**.", ""]
+    if "before_after" in figs:
+        lines += [f"![before and after]({figs['before_after']})", ""]
+    return "\n".join(lines) + "\n"

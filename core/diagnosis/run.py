@@ -1,0 +1,88 @@
+"""The diagnosis from start to end: where, which effect, how far it shrinks, the report."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from ..errors import PluginError
+from ..plugin_host import get_registry
+from .context import Context, DiagnoseConfig, build_context
+from .ranking import Candidate, rank_effects, tuner_sensitivities
+from .report import verdict, write
+from .shrink import recalibrate
+from .where import analyse
+
+def installed_effects(names: list[str] | None = None) -> list:
+    registry = get_registry()
+    available = registry.names("effect")
+    if names is None:
+        names = available
+    unknown = [n for n in names if n not in available]
+    if unknown:
+        raise PluginError(f"unknown effect {unknown[0]!r}; installed effects: {', '.join(available) or 'none'}")
+    return [registry.get("effect", n)() for n in names]
+
+
+def confirm_order(candidates: list[Candidate]) -> list[Candidate]:
+    """Recalibrated effects first, by shrink; then the rest by their share (the screening order)."""
+    tested = [c for c in candidates if c.gap_shrink is not None]
+    tested.sort(key=lambda c: -(c.gap_shrink if c.gap_shrink == c.gap_shrink else -1.0))
+    rest = [c for c in candidates if c.gap_shrink is None]
+    return tested + rest
+
+
+def diagnose(
+    run_dir,
+    *,
+    solution=None,
+    workflow=None,
+    output: str | Path | None = None,
+    overrides: dict | None = None,
+    progress=print,
+) -> dict:
+    """Diagnose ``run_dir``; writes ``<run_dir>/diagnosis/`` (or ``output``) and returns a summary."""
+    t0 = time.perf_counter()
+    say = progress or (lambda *_: None)
+    ctx = build_context(run_dir, solution=solution, workflow=workflow, overrides=overrides)
+    say(f"diagnosing solution {ctx.solution_id} of {ctx.run.dir.name}; roles: " + ", ".join(f"{k}={v}" for k, v in ctx.roles.items()))
+    where = analyse(ctx)
+    t1 = time.perf_counter()
+    effects = installed_effects(ctx.config.effects)
+    nuisance = tuner_sensitivities(ctx)
+    candidates = rank_effects(ctx, effects, nuisance)
+    t2 = time.perf_counter()
+    say("screening: " + ", ".join(f"{c.name} {c.share:.0%} (p={c.p_value:.2g})" for c in candidates if c.applicable))
+    folder = Path(output) if output is not None else ctx.run.dir / "diagnosis"
+    shrink = []
+    budget = ctx.config.recalibrate.candidates
+    # only effects that pass the screening are worth a recalibration; the best shrink then
+    # orders them (screening by signature, confirmation by the model itself)
+    chosen = [c for c in candidates if c.significant and c.addition is not None][:budget]
+    for cand in chosen:
+        say(f"recalibrating with {cand.name} added ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
+        weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
+        result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights)
+        if "gap_shrink" in result:
+            cand.gap_shrink = float(result["gap_shrink"])
+            say(f"  validation gap shrink with {cand.name}: {result['gap_shrink']:.0%}")
+        elif "error" in result:
+            cand.gap_shrink = float("nan")
+            say(f"  {cand.name}: {result['error']}")
+        shrink.append(result)
+    candidates = confirm_order(candidates)
+    t3 = time.perf_counter()
+    say(verdict(candidates))
+    timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}
+    write(ctx, where, candidates, shrink, folder, timing)
+    return {
+        "report": folder / "report.md",
+        "json": folder / "diagnosis.json",
+        "verdict": verdict(candidates),
+        "claimed": [c.name for c in candidates if c.claimed],
+        "ranking": [c.name for c in candidates if c.applicable],
+        "candidates": candidates,
+        "recalibration": shrink,
+        "where": where,
+        "timing": timing,
+    }

@@ -1,0 +1,162 @@
+"""How far the gap shrinks: recalibrate with a candidate effect added, compare on validation.
+
+The recalibration is an ordinary simgap run of a derived workflow (written next to the report,
+so it can be re-run by hand): the effect's switch goes into ``simulator.options.start_values``,
+the effect's tuners join the model's tuners, and the model's tuners are narrowed to ±15 % of
+their range around the diagnosed solution, which also seeds the first generation (a warm
+start: the effect is searched, the rest is touched up).
+"""
+
+from __future__ import annotations
+
+import copy
+import io
+import math
+from pathlib import Path
+
+import numpy as np
+from ruamel.yaml import YAML
+
+from ..interfaces import EffectAddition
+from ..results import ERROR, PARAM, VALIDATION, load_run
+from .context import Context
+
+NARROW = 0.15
+
+
+def _absolute_paths(value, base: Path):
+    """Relative paths in plugin options (a model file, a source folder) made absolute."""
+    if isinstance(value, dict):
+        return {k: _absolute_paths(v, base) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_absolute_paths(v, base) for v in value]
+    if isinstance(value, str) and value and not Path(value).is_absolute() and (base / value).exists():
+        return str((base / value).resolve())
+    return value
+
+
+def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path) -> Path:
+    wf = ctx.prepared.wf
+    data = copy.deepcopy(wf.doc.data)
+    base = wf.base_dir
+    data["data"]["file"] = str(wf.resolve(data["data"]["file"]))
+    sim = data["simulator"]
+    sim["options"] = _absolute_paths(sim.get("options") or {}, base)
+    sim["options"].setdefault("start_values", {})
+    sim["options"]["start_values"].update({k: float(v) for k, v in addition.switch.items()})
+    params = []
+    for p in wf.model.parameters:
+        value = ctx.parameters[p.name]
+        if p.scale == "log":
+            lo, hi = math.log(p.min), math.log(p.max)
+            width = NARROW * (hi - lo)
+            v = math.log(value)
+            new_min, new_max = math.exp(max(lo, v - width)), math.exp(min(hi, v + width))
+        else:
+            width = NARROW * (p.max - p.min)
+            new_min, new_max = max(p.min, value - width), min(p.max, value + width)
+        entry = {"name": p.name, "min": new_min, "max": new_max, "start": min(max(value, new_min), new_max), "scale": p.scale}
+        if p.unit:
+            entry["unit"] = p.unit
+        params.append(entry)
+    for p in addition.parameters:
+        entry = {"name": p.name, "min": p.lower, "max": p.upper, "start": p.default, "scale": p.scale}
+        if p.scale == "log" and p.lower <= 0:
+            entry["scale"] = "linear"
+        if p.unit:
+            entry["unit"] = p.unit
+        params.append(entry)
+    data["parameters"] = params
+    budget = ctx.config.recalibrate
+    data["optimiser"] = {
+        "plugin": "nsga2",
+        "options": {"population": budget.population},
+        "seed": wf.model.optimiser.seed,
+        "budget": {"generations": budget.generations},
+    }
+    data["output"] = str((folder / "runs").resolve())
+    data["name"] = f"{(wf.model.name or 'run')}_plus_{effect}"[:60]
+    data.pop("diagnose", None)
+    data.pop("grid", None)
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "workflow.yaml"
+    buffer = io.StringIO()
+    yaml = YAML()
+    yaml.default_flow_style = False
+    yaml.dump(data, buffer)
+    path.write_text(
+        f"# derived by simgap diagnose: {wf.path.name} with the effect '{effect}' added (switch "
+        + ", ".join(f"{k}={v:g}" for k, v in addition.switch.items())
+        + ")\n"
+        + buffer.getvalue()
+    )
+    return path
+
+
+def _before(ctx: Context) -> dict[str, float]:
+    pareto = ctx.run.pareto
+    if pareto is not None and (pareto["eval_id"] == ctx.solution_id).any():
+        row = pareto[pareto["eval_id"] == ctx.solution_id].iloc[0]
+        cols = [c[len(VALIDATION) :] for c in pareto.columns if c.startswith(VALIDATION) and c != VALIDATION + "status"]
+        if cols:
+            return {c: float(row[VALIDATION + c]) for c in cols}
+    # not on the front (or no validation): score it now
+    from ..evaluation import evaluate
+
+    setup = ctx.prepared.validation or ctx.prepared.training
+    row = evaluate(setup, -1, ctx.parameters)
+    return dict(row["errors"] or {})
+
+
+def recalibrate(ctx: Context, effect: str, addition: EffectAddition, folder: Path, weights: dict[str, float]) -> dict:
+    """Run the derived calibration; return before/after validation errors and the shrink."""
+    from ..calibrate import calibrate
+    from ..setup import prepare
+
+    before = _before(ctx)
+    out: dict = {"effect": effect, "before": before}
+    try:
+        path = derived_workflow(ctx, effect, addition, folder)
+        prepared = prepare(path)
+        run_dir = calibrate(prepared, workers=ctx.config.recalibrate.workers)
+    except Exception as exc:  # a failed recalibration is a finding, not a crash of the report
+        out["error"] = f"{type(exc).__name__}: {exc}"
+        return out
+    run = load_run(run_dir)
+    pareto = run.pareto
+    out["run"] = str(run_dir)
+    out["evaluations"] = int(len(run.evaluations))
+    if pareto is None or pareto.empty:
+        out["error"] = "the recalibration found no successful solution"
+        return out
+    objectives = run.objective_names
+    # the front member that improves training most evenly over the objectives (validation unseen)
+    train = ctx.run.evaluations
+    base_row = train[train["eval_id"] == ctx.solution_id].iloc[0]
+    ratios = np.column_stack(
+        [pareto[ERROR + c].to_numpy(dtype=float) / max(float(base_row[ERROR + c]), 1e-300) for c in objectives]
+    )
+    pick = pareto.iloc[int(np.argmin(ratios.max(axis=1)))]
+    after = {c: float(pick[VALIDATION + c]) for c in before if VALIDATION + c in pick.index}
+    out["after"] = after
+    out["solution"] = int(pick["eval_id"])
+    out["effect_parameters"] = {p.name: float(pick[PARAM + p.name]) for p in addition.parameters}
+    out["parameters"] = {c[len(PARAM) :]: float(pick[c]) for c in pareto.columns if c.startswith(PARAM)}
+    out["shrink"] = {c: (1.0 - after[c] / before[c]) if before.get(c) and math.isfinite(after.get(c, math.nan)) else math.nan for c in after}
+    out["gap_shrink"] = gap_shrink(out["shrink"], weights)
+    return out
+
+
+def gap_shrink(shrink: dict[str, float], weights: dict[str, float]) -> float:
+    """Shrink over the metrics, weighted by how much of each target's residual the effect explains."""
+    total, acc = 0.0, 0.0
+    for col, value in shrink.items():
+        target = col.split(".")[0]
+        w = max(weights.get(target, 0.0), 0.0)
+        if math.isfinite(value) and w > 0:
+            total += w
+            acc += w * value
+    if total == 0:
+        values = [v for v in shrink.values() if math.isfinite(v)]
+        return float(np.mean(values)) if values else math.nan
+    return acc / total

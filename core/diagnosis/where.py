@@ -1,0 +1,204 @@
+"""Where the gap lies: in time, by operating regime, and as bias, amplitude or timing."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from ..config import parse_duration
+from .context import Context, compressor_state, running_level
+
+
+def _stats(m: np.ndarray, s: np.ndarray) -> dict:
+    ok = np.isfinite(m) & np.isfinite(s)
+    if not ok.any():
+        return {"n": 0}
+    m, s = m[ok], s[ok]
+    e = s - m
+    mse = float(np.mean(e * e))
+    mean_m = float(np.mean(m))
+    bias = float(np.mean(e))
+    sd_m, sd_s = float(np.std(m)), float(np.std(s))
+    corr = float(np.corrcoef(m, s)[0, 1]) if sd_m > 0 and sd_s > 0 else math.nan
+    return {
+        "n": int(ok.sum()),
+        "rmse": math.sqrt(mse),
+        "mbe": bias,
+        "mbe_percent": 100.0 * float(np.sum(e)) / float(np.sum(m)) if abs(np.sum(m)) > 0 else math.nan,
+        "cvrmse": math.sqrt(mse) / mean_m if mean_m else math.nan,
+        # MSE = bias² + (sd_s − sd_m)² + 2 sd_s sd_m (1 − r): the classic three-way split
+        "bias_share": bias * bias / mse if mse > 0 else math.nan,
+        "amplitude_share": (sd_s - sd_m) ** 2 / mse if mse > 0 else math.nan,
+        "timing_share": 2 * sd_s * sd_m * (1 - corr) / mse if mse > 0 and math.isfinite(corr) else math.nan,
+        "amplitude_ratio": sd_s / sd_m if sd_m > 0 else math.nan,
+    }
+
+
+def best_lag(m: np.ndarray, s: np.ndarray, seconds: np.ndarray, max_lag_s: float = 7200.0) -> dict:
+    """Lag (s) by which the simulation must be delayed to match best (positive: measurement late)."""
+    ok = np.isfinite(m) & np.isfinite(s)
+    if ok.sum() < 10:
+        return {"lag_s": math.nan}
+    dt = float(np.median(np.diff(seconds))) or 1.0
+    max_k = int(min(max_lag_s / dt, ok.sum() // 4))
+    mm = np.where(ok, m - np.nanmean(m[ok]), 0.0)
+    ss = np.where(ok, s - np.nanmean(s[ok]), 0.0)
+    dm, ds = np.diff(mm), np.diff(ss)  # changes, so slow drifts do not dominate
+    best, best_c = 0, -np.inf
+    for k in range(-max_k, max_k + 1):
+        a = dm[k:] if k >= 0 else dm[:k]
+        b = ds[: len(ds) - k] if k >= 0 else ds[-k:]
+        c = float(a @ b) / (np.linalg.norm(a) * np.linalg.norm(b) + 1e-300)
+        if c > best_c:
+            best, best_c = k, c
+    shifted = np.roll(s, best)
+    rmse0 = float(np.sqrt(np.nanmean((m - s)[ok] ** 2)))
+    valid = ok.copy()
+    if best > 0:
+        valid[:best] = False
+    elif best < 0:
+        valid[best:] = False
+    rmse1 = float(np.sqrt(np.nanmean((m - shifted)[valid] ** 2))) if valid.any() else math.nan
+    return {"lag_s": best * dt, "correlation_of_changes": best_c, "rmse_at_lag": rmse1, "rmse_at_zero": rmse0}
+
+
+def cycles(state: np.ndarray, seconds: np.ndarray, segment: np.ndarray) -> dict:
+    """Number of starts and mean durations of complete on and off periods of a 0/1 series.
+
+    A period cut by the start or end of a segment is not complete and not averaged.
+    """
+    on = np.asarray(state) > 0.5
+    dt = float(np.median(np.diff(seconds))) if len(seconds) > 1 else 1.0
+    starts = 0
+    durations = {True: [], False: []}
+    for seg in np.unique(segment):
+        idx = np.flatnonzero(segment == seg)
+        s = on[idx]
+        changes = np.flatnonzero(s[1:] != s[:-1]) + 1
+        starts += int(np.sum(s[changes]))
+        for a, b in zip(changes[:-1], changes[1:]):
+            durations[bool(s[a])].append(seconds[idx[b - 1]] - seconds[idx[a]] + dt)
+    return {
+        "starts": starts,
+        "mean_on_s": float(np.mean(durations[True])) if durations[True] else math.nan,
+        "mean_off_s": float(np.mean(durations[False])) if durations[False] else math.nan,
+    }
+
+
+def regimes(ctx: Context) -> dict[str, np.ndarray]:
+    """Boolean masks of operating regimes over the joined time grid."""
+    data = ctx.data()
+    out: dict[str, np.ndarray] = {}
+    on = compressor_state(data)
+    if on is not None:
+        since_start = data.since_change(on, rising=True)
+        since_stop = data.since_change(on, rising=False)
+        out["compressor off"] = (on < 0.5) & (since_stop > 900.0)
+        out["shut-down (15 min after stop)"] = (on < 0.5) & (since_stop <= 900.0)
+        out["start-up (15 min after start)"] = (on > 0.5) & (since_start <= 900.0)
+        out["steady running"] = (on > 0.5) & (since_start > 900.0)
+    t_out = data.role("outdoor_temperature")
+    if t_out is not None:
+        c = np.asarray(t_out) - 273.15
+        out["outdoor <= 2 degC"] = c <= 2.0
+        out["outdoor 2-12 degC"] = (c > 2.0) & (c < 12.0)
+        out["outdoor >= 12 degC"] = c >= 12.0
+        humidity = data.role("humidity")
+        if humidity is not None:
+            out["defrost-prone (-12..7 degC, RH > 70 %)"] = (c > -12.0) & (c < 7.0) & (np.asarray(humidity) > 0.7) & (
+                on > 0.5 if on is not None else True
+            )
+    flow = data.role("flow")
+    if flow is not None:
+        f = np.asarray(flow)
+        still = f <= 0.05 * np.nanmax(np.abs(f))
+        out["flow"] = ~still
+        out["no flow"] = still
+    return {k: v for k, v in out.items() if v.any()}
+
+
+def rolling_error(error: np.ndarray, seconds: np.ndarray, window_s: float) -> np.ndarray:
+    """Centred rolling RMS of ``error`` over ``window_s`` (NaN-aware)."""
+    dt = float(np.median(np.diff(seconds))) if len(seconds) > 1 else 1.0
+    w = max(1, int(round(window_s / dt)))
+    sq = pd.Series(error * error)
+    return np.sqrt(sq.rolling(w, center=True, min_periods=max(1, w // 3)).mean().to_numpy())
+
+
+def worst_windows(roll: np.ndarray, seconds: np.ndarray, window_s: float, count: int = 3) -> list[tuple[int, int]]:
+    """Index ranges of the ``count`` worst non-overlapping windows of a rolling error."""
+    dt = float(np.median(np.diff(seconds))) if len(seconds) > 1 else 1.0
+    half = max(1, int(round(window_s / dt / 2)))
+    values = np.where(np.isfinite(roll), roll, -np.inf).copy()
+    out = []
+    for _ in range(count):
+        i = int(np.argmax(values))
+        if not np.isfinite(values[i]):
+            break
+        lo, hi = max(0, i - half), min(len(values), i + half + 1)
+        out.append((lo, hi))
+        values[max(0, i - 2 * half) : min(len(values), i + 2 * half + 1)] = -np.inf
+    return out
+
+
+def analyse(ctx: Context) -> dict:
+    window_s = parse_duration(ctx.config.window).total_seconds()
+    result: dict = {"window_s": window_s, "targets": {}, "regimes": {}, "cycles": {}}
+    for piece in ctx.pieces:
+        for t in ctx.targets:
+            m, s = piece.measured[t], piece.simulated[t]
+            entry = result["targets"].setdefault(t, {})
+            stats = _stats(m, s)
+            stats.update(best_lag(m, s, piece.seconds))
+            stats["dtw"] = _dtw_gap(ctx, m, s, piece.time)
+            roll = rolling_error(s - m, piece.seconds, window_s)
+            stats["worst_windows"] = [
+                {"start": str(piece.time[lo]), "end": str(piece.time[hi - 1]), "rms_error": float(np.nanmax(roll[lo:hi]))}
+                for lo, hi in worst_windows(roll, piece.seconds, window_s)
+            ]
+            entry[piece.kind] = stats
+    masks = regimes(ctx)
+    residual = ctx.residual
+    for t in ctx.targets:
+        e = residual[t]
+        ok = np.isfinite(e)
+        total = float(np.sum(e[ok] ** 2))
+        rows = {}
+        for name, mask in masks.items():
+            sel = mask & ok
+            if not sel.any():
+                continue
+            rows[name] = {
+                "time_share": float(sel.sum() / ok.sum()),
+                "error_share": float(np.sum(e[sel] ** 2) / total) if total > 0 else math.nan,
+                "rmse": float(np.sqrt(np.mean(e[sel] ** 2))),
+                "mbe": float(-np.mean(e[sel])),  # simulated − measured
+            }
+        result["regimes"][t] = rows
+    # on/off cycles measured vs simulated, from power if there is a power target
+    power_ref = ctx.roles.get("power", "")
+    if power_ref.startswith("sim:"):
+        name = power_ref[4:]
+        for piece in ctx.pieces:
+            meas = running_level(np.where(np.isfinite(piece.measured[name]), piece.measured[name], np.nanmedian(piece.measured[name])))
+            sim = running_level(piece.simulated[name])
+            result["cycles"][piece.kind] = {
+                "measured": cycles(meas > 0.05, piece.seconds, piece.segment),
+                "simulated": cycles(sim > 0.05, piece.seconds, piece.segment),
+            }
+    return result
+
+
+def _dtw_gap(ctx: Context, m, s, time) -> dict | None:
+    """DTW and RMSE side by side if a ``dtw`` metric plugin is installed (timing vs shape)."""
+    registry = ctx.prepared.registry
+    if "dtw" not in registry.names("metric"):
+        return None
+    try:
+        metric = registry.get("metric", "dtw")()
+        value = float(metric(m, s, time))
+    except Exception as exc:  # a metric's own limits (length, memory) must not stop the diagnosis
+        return {"error": f"{type(exc).__name__}: {exc}"}
+    return {"dtw": value}

@@ -1,0 +1,240 @@
+"""Built-in effect plugins: the switchable effects of the example heat pump models.
+
+Each effect works for any model whose inputs and outputs play the roles it needs (a compressor
+signal, an outdoor temperature, a water temperature target...). It can be *added* to a model
+that has its switch parameter (``useStartUpLag`` and so on, the convention of the example
+models); the effect's tuners are those of its parameters the model has, with search ranges
+wide enough for small and large plants, and the model's own start value as the typical value.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import simgap
+
+# --------------------------------------------------------------------------------------------
+# helpers
+
+
+def _running(data: simgap.DiagnosisData) -> np.ndarray | None:
+    state = data.role("compressor")
+    return None if state is None else (np.asarray(state) > 0.05).astype(float)
+
+
+def _smooth_step(x: np.ndarray, width: float) -> np.ndarray:
+    """1 well below 0, 0 well above, logistic over ``width``: a threshold the data can blur."""
+    return 1.0 / (1.0 + np.exp(np.clip(x / width, -50, 50)))
+
+
+class _SwitchEffect(simgap.Effect):
+    """An effect added through a switch parameter and a few tuners of the model."""
+
+    switch: str = ""
+    tuners: tuple[simgap.EffectParameter, ...] = ()
+    needs: tuple[str, ...] = ("compressor",)
+
+    def applies(self, data):
+        missing = [r for r in self.needs if data.role(r) is None]
+        if missing:
+            return f"needs {', '.join(missing)} (no series plays that role)"
+        if self.needs_temperature and not data.temperature_targets:
+            return "needs a water-temperature target (unit K)"
+        return None
+
+    needs_temperature = False
+
+    def addition(self, data):
+        if self.switch not in data.variables:
+            return None
+        params = []
+        for p in self.tuners:
+            var = data.variables.get(p.name)
+            if var is None or not var.settable:
+                continue
+            default = p.default
+            if var.start is not None and p.lower <= var.start <= p.upper:
+                default = float(var.start)
+            params.append(simgap.EffectParameter(p.name, default, p.lower, p.upper, p.unit, p.scale))
+        if not params:
+            return None
+        return simgap.EffectAddition(switch={self.switch: 1.0}, parameters=tuple(params))
+
+
+P = simgap.EffectParameter
+
+
+# --------------------------------------------------------------------------------------------
+# the effects
+
+
+class StartUpLag(_SwitchEffect):
+    name = "start_up_lag"
+    description = "refrigerant-circuit inertia: after each compressor start the heat output rises with a time constant instead of at once"
+    evidence = "residual concentrated in the first minutes after compressor starts (temperature lower, while power is already there)"
+    switch = "useStartUpLag"
+    tuners = (P("tauStartUp", 90.0, 10.0, 900.0, "s", "log"),)
+
+    def signature(self, data):
+        on = _running(data)
+        since = data.since_change(on, rising=True)
+        return {f"after start, tau {tau:g} s": on * np.exp(-since / tau) for tau in (60.0, 240.0, 900.0)}
+
+
+class StartUpInertia(StartUpLag):
+    name = "start_up_inertia"
+    description = "refrigerant inertia: heat flows follow the compressor status through a damped higher-order filter"
+    switch = "useInertia"
+    tuners = (P("refIneFreConst", 0.0132, 0.002, 0.1, "Hz", "log"),)
+
+
+class PostRun(_SwitchEffect):
+    name = "post_run"
+    description = "the loading/charging pump runs on for a while after each compressor stop"
+    evidence = "after each compressor stop, power stays at pump level and temperatures keep mixing for a fixed time"
+    switch = "usePostRun"
+    tuners = (P("tPostRun", 180.0, 30.0, 3600.0, "s", "log"),)
+
+    def signature(self, data):
+        on = _running(data)
+        since = data.since_change(on, rising=False)
+        off = 1.0 - on
+        return {f"after stop, tau {tau:g} s": off * np.exp(-since / tau) for tau in (120.0, 600.0, 1800.0)}
+
+
+class SensorLag(_SwitchEffect):
+    name = "sensor_lag"
+    description = "the temperature sensor reads through a first-order lag (sensor mass, immersion sleeve)"
+    evidence = "residual follows the time derivative of the temperature: every rise and fall is measured late"
+    switch = "useSensorLag"
+    tuners = (P("tauSensor", 60.0, 5.0, 3600.0, "s", "log"),)
+    needs = ()
+    needs_temperature = True
+
+    def signature(self, data):
+        out = {}
+        for target in data.temperature_targets:
+            values = np.asarray(data.simulated[target], dtype=float)
+            out[f"d{target}/dt"] = data.derivative(values)
+            # a slow sensor seen at coarse logging: the derivative of a smoothed series
+            smooth = _lowpass(values, data, 600.0)
+            out[f"d{target}/dt (600 s smoothed)"] = data.derivative(smooth)
+        return out
+
+
+def _lowpass(values: np.ndarray, data, tau: float) -> np.ndarray:
+    out = np.empty(len(values))
+    for i in range(len(values)):
+        if i == 0 or data.segment[i] != data.segment[i - 1]:
+            out[i] = values[i]
+        else:
+            a = 1.0 - math.exp(-max(data.time[i] - data.time[i - 1], 0.0) / tau)
+            out[i] = out[i - 1] + a * (values[i] - out[i - 1])
+    return out
+
+
+class HeatLoss(_SwitchEffect):
+    name = "heat_loss"
+    description = "heat lost from the condenser and pipes to the plant room"
+    evidence = "water temperature lower than simulated in proportion to its excess over the room, most when the water stands still"
+    switch = "useHeatLoss"
+    tuners = (
+        P("UALossCon", 10.0, 0.0, 60.0, "W/K"),
+        P("UALossPipe", 4.0, 0.0, 30.0, "W/K"),
+        P("UALossGen", 150.0, 0.0, 800.0, "W/K"),
+    )
+    needs = ()
+    needs_temperature = True
+
+    def signature(self, data):
+        out = {}
+        flow = data.role("flow")
+        for target in data.temperature_targets:
+            values = np.asarray(data.simulated[target], dtype=float)
+            out[f"{target} above its mean"] = values - np.nanmean(values)
+            if flow is not None:
+                still = (np.asarray(flow) <= 0.05 * np.nanmax(np.abs(flow))).astype(float)
+                out[f"{target} while no flow"] = still * (values - np.nanmean(values))
+        return out
+
+
+class Cycling(_SwitchEffect):
+    name = "cycling"
+    description = "on/off cycling with minimum run and off times (a thermostat or anti-short-cycle control the model lacks)"
+    evidence = "measured on/off periods differ from simulated ones: more or fewer, regular cycles at low load or high water temperature"
+    switch = "useCycling"
+    tuners = (
+        P("TCycOff", 318.15, 303.15, 328.15, "K"),
+        P("dTCycHys", 5.0, 1.0, 10.0, "K"),
+        P("tCycMinRun", 600.0, 60.0, 3600.0, "s", "log"),
+        P("tCycMinOff", 600.0, 60.0, 3600.0, "s", "log"),
+        P("plrCycMin", 0.4, 0.1, 0.8),
+    )
+
+    def signature(self, data):
+        on = _running(data)
+        level = np.asarray(data.role("compressor"), dtype=float)
+        out = {"running at part load": on * (1.0 - np.clip(level, 0.0, 1.0))}
+        for target in data.temperature_targets:
+            values = np.asarray(data.simulated[target], dtype=float)
+            out[f"running with hot water ({target})"] = on * np.clip(values - np.nanpercentile(values, 75), 0.0, None)
+        since_on = data.since_change(on, rising=True)
+        since_off = data.since_change(on, rising=False)
+        out["short after a switch"] = np.where(on > 0.5, since_on < 1200.0, since_off < 1200.0).astype(float)
+        return out
+
+
+class Defrost(_SwitchEffect):
+    name = "defrost"
+    description = "reverse-cycle defrost of the outdoor coil in cold, humid air"
+    evidence = "periodic dips of the water temperature and missing fan power, only while running at about -12..+7 degC in humid air"
+    switch = "useDefrost"
+    tuners = (
+        P("tDefrostInterval", 2400.0, 900.0, 7200.0, "s", "log"),
+        P("tDefrost", 300.0, 60.0, 900.0, "s"),
+        P("fDefrostQ", 0.6, 0.1, 1.0),
+    )
+    needs = ("compressor", "outdoor_temperature")
+
+    def signature(self, data):
+        on = _running(data)
+        t_out = np.asarray(data.role("outdoor_temperature"), dtype=float) - 273.15
+        humidity = data.role("humidity")
+        wet = np.ones_like(t_out) if humidity is None else np.clip((np.asarray(humidity) - 0.6) / 0.3, 0.0, 1.0)
+        # frost grows fastest just above freezing and not at all in very cold or mild air
+        prone = np.clip(np.where(t_out < 1.0, (t_out + 12.0) / 13.0, (7.0 - t_out) / 6.0), 0.0, 1.0) * wet
+        return {"running in frost-prone air": on * prone, "frost-prone air": prone}
+
+
+class BackupHeater(_SwitchEffect):
+    name = "backup_heater"
+    description = "an electric backup heater that switches on below an outdoor-temperature threshold"
+    evidence = "electric power higher by a constant block (and water warmer) only below a threshold outdoor temperature"
+    switch = "useBackupHeater"
+    tuners = (
+        P("TOdaBackup", 271.15, 258.15, 278.15, "K"),
+        P("PBackup", 3000.0, 500.0, 20000.0, "W", "log"),
+    )
+    needs = ("outdoor_temperature",)
+
+    def signature(self, data):
+        t_out = np.asarray(data.role("outdoor_temperature"), dtype=float) - 273.15
+        on = _running(data)
+        out = {}
+        for threshold in (-6.0, -2.0, 2.0):
+            cold = _smooth_step(t_out - threshold, 0.5)
+            out[f"outdoor below {threshold:g} degC"] = cold
+            if on is not None:
+                out[f"running below {threshold:g} degC"] = on * cold
+        return out
+
+
+EFFECTS = (StartUpLag, StartUpInertia, PostRun, SensorLag, HeatLoss, Cycling, Defrost, BackupHeater)
+
+
+@simgap.hookimpl
+def register_effects(register):
+    for effect in EFFECTS:
+        register(effect)
