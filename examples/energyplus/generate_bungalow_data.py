@@ -71,7 +71,7 @@ SIMULATOR_OPTIONS = {
 # which is what makes it identifiable from the zone temperature.
 TRUTH = {
     "wall_conductivity": 0.05,
-    "radiator_UA": 90.0,
+    "radiator_UA": 80.0,
     "heat_pump_COP": 3.2,
     "heating_setpoint": 20.5,
 }
