@@ -1,42 +1,35 @@
-"""Built-in metric plugins, registered through the public ``register_metrics`` hook."""
+"""Built-in metric plugins, registered through the public ``register_metrics`` hook.
+
+Point-by-point errors (:mod:`.pointwise`), the ASHRAE Guideline 14 verdict (:mod:`.ashrae`) and
+dynamic time warping (:mod:`.dtw`, kernels in :mod:`.dtw_kernels`). docs/metrics.md defines
+each one.
+"""
 
 from __future__ import annotations
 
-import numpy as np
-
 import simgap
 
+from .ashrae import ASHRAE14
+from .dtw import DTW
+from .pointwise import (
+    CVRMSE,
+    MAE,
+    MBE,
+    MSE,
+    NMBE,
+    NRMSE,
+    R2,
+    RMSE,
+    LoadDurationCurveError,
+)
+from .series import MetricInputError
 
-def _valid(measured: np.ndarray, simulated: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Drop samples where the measurement has a gap; a series with nothing left is an error."""
-    mask = np.isfinite(measured)
-    if not mask.any():
-        raise ValueError("no measured samples left after masking gaps (NaN)")
-    return measured[mask], simulated[mask]
+METRICS = (MAE, MSE, RMSE, CVRMSE, NRMSE, MBE, NMBE, R2, ASHRAE14, DTW, LoadDurationCurveError)
 
-
-class RMSE(simgap.Metric):
-    """Root-mean-square error, in the target's unit."""
-
-    name = "rmse"
-    unit = "target"
-
-    def __call__(self, measured, simulated, time):
-        m, s = _valid(measured, simulated)
-        return float(np.sqrt(np.mean((m - s) ** 2)))
-
-
-class CVRMSE(simgap.Metric):
-    """Coefficient of variation of the RMSE: RMSE / mean(measured), dimensionless."""
-
-    name = "cvrmse"
-
-    def __call__(self, measured, simulated, time):
-        m, s = _valid(measured, simulated)
-        return float(np.sqrt(np.mean((m - s) ** 2)) / np.mean(m))
+__all__ = [cls.__name__ for cls in METRICS] + ["METRICS", "MetricInputError", "register_metrics"]
 
 
 @simgap.hookimpl
 def register_metrics(register):
-    register(RMSE)
-    register(CVRMSE)
+    for metric in METRICS:
+        register(metric)

@@ -1,0 +1,97 @@
+"""ASHRAE Guideline 14 calibration verdict: CV(RMSE) and NMBE against the guideline's limits."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from pydantic import Field
+
+import simgap
+
+from .pointwise import nmbe
+from .series import (
+    MetricInputError,
+    as_columns,
+    nonzero,
+    sample_spacing,
+    time_axis,
+    valid_rows,
+)
+
+# period: (CV(RMSE) limit, |NMBE| limit, bin unit, longest sample spacing that still fits a bin)
+LIMITS = {
+    "hourly": (0.30, 0.10, "h", np.timedelta64(1, "h")),
+    "monthly": (0.15, 0.05, "M", np.timedelta64(31, "D")),
+}
+
+
+class ASHRAE14Options(simgap.PluginOptions):
+    period: Literal["hourly", "monthly"] = "hourly"
+    """Which limits apply: hourly CV(RMSE) ≤ 30 %, |NMBE| ≤ 10 %; monthly 15 %, 5 %. Both
+    series are first summed per clock hour or calendar month."""
+    p: int = Field(1, ge=0)
+    """ASHRAE's p in (n − p), the number of model parameters; 1 by default."""
+
+
+class ASHRAE14(simgap.Metric):
+    """The worst ratio of a Guideline 14 statistic to its limit: ≤ 1 means calibrated.
+
+    max(CV(RMSE) / CV limit, |NMBE| / NMBE limit), both computed on per-period totals with
+    ASHRAE's (n − p) denominators. A value of 1.4 says the weaker statistic is 40 % over its
+    limit.
+    """
+
+    name = "ashrae14"
+    Options = ASHRAE14Options
+    multi_column = False
+
+    def __call__(self, measured, simulated, time) -> float:
+        cv, bias = self.statistics(measured, simulated, time)
+        cv_limit, bias_limit, _, _ = LIMITS[self.options.period]
+        return float(max(cv / cv_limit, abs(bias) / bias_limit))
+
+    def statistics(self, measured, simulated, time) -> tuple[float, float]:
+        """(CV(RMSE), signed NMBE) of the per-period totals, as Guideline 14 defines them."""
+        m, s = as_columns(self.name, measured, simulated)
+        if m.shape[1] != 1:
+            raise MetricInputError(
+                f"metric '{self.name}' scores one column, but the target has {m.shape[1]}"
+            )
+        t = time_axis(self.name, time, m.shape[0])
+        keep = valid_rows(self.name, m, s)
+        _, _, unit, longest = LIMITS[self.options.period]
+        spacing = sample_spacing(t)
+        if spacing is not None and spacing > longest:
+            raise MetricInputError(
+                f"metric '{self.name}': period {self.options.period} needs samples at least "
+                f"{self.options.period}, but they are {spacing.astype('timedelta64[m]')} apart"
+            )
+        m_tot, s_tot = period_totals(t, m[:, 0], s[:, 0], keep, unit)
+        p = self.options.p
+        if m_tot.size - p <= 0:
+            raise MetricInputError(
+                f"metric '{self.name}': {m_tot.size} {self.options.period} period(s) with data "
+                f"are too few for p = {p}"
+            )
+        e = m_tot - s_tot
+        mean = nonzero(self.name, float(np.mean(m_tot)), "the measured mean")
+        cv = np.sqrt(np.dot(e, e) / (m_tot.size - p)) / abs(mean)
+        return float(cv), nmbe(self.name, m_tot, s_tot, p)
+
+
+def period_totals(t, m, s, keep, unit):
+    """Per clock hour or calendar month: the mean over valid samples times all samples.
+
+    Scaling the mean of the valid samples by the period's sample count estimates the period's
+    total as if its gaps had the same mean; a period without any valid sample is dropped.
+    """
+    period = t.astype(f"datetime64[{unit}]")
+    _, index = np.unique(period, return_inverse=True)
+    count = np.bincount(index).astype(np.float64)
+    valid = np.bincount(index, weights=keep.astype(np.float64))
+    m_sum = np.bincount(index[keep], weights=m[keep], minlength=count.size)
+    s_sum = np.bincount(index[keep], weights=s[keep], minlength=count.size)
+    has = valid > 0
+    scale = count[has] / valid[has]
+    return m_sum[has] * scale, s_sum[has] * scale
