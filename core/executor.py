@@ -6,6 +6,7 @@ import logging
 import math
 import os
 import time
+from concurrent.futures import CancelledError
 from typing import Callable
 
 from .errors import SimgapError
@@ -32,6 +33,8 @@ class DaskExecutor:
         self.batch_size = batch_size
         self.client = None
         self.cluster = None
+        self._shared: dict[str, object] = {}  # setup token -> scattered future
+        self._executing_since: dict[object, float] = {}  # task key -> first seen executing
 
     # -- lifecycle ----------------------------------------------------------------------------
 
@@ -75,7 +78,9 @@ class DaskExecutor:
 
     def share(self, setup: EvaluationSetup):
         """Send the setup to every worker once; returns the handle tasks refer to."""
-        return self.client.scatter(setup, broadcast=True, hash=False)
+        handle = self.client.scatter(setup, broadcast=True, hash=False)
+        self._shared[setup.token] = handle
+        return handle
 
     def _chunks(self, jobs: list) -> list[list]:
         size = self.batch_size or max(1, math.ceil(len(jobs) / (4 * self.n_workers)))
@@ -92,10 +97,13 @@ class DaskExecutor:
     ) -> list[dict]:
         """Evaluate ``jobs`` (eval_id, parameters); rows come back in job order.
 
-        ``on_done`` is called with each task's rows as soon as the task returns.
+        ``handle`` comes from :meth:`share`; after a stuck worker was restarted the setup is
+        shared again and the new handle used. ``on_done`` is called with each task's rows as
+        soon as the task returns.
         """
         from distributed import wait
 
+        handle = self._shared.get(setup.token, handle)
         chunks = self._chunks(jobs)
         futures = {}
         for chunk in chunks:
@@ -108,6 +116,9 @@ class DaskExecutor:
                 done, pending = wait(pending, timeout=POLL_S, return_when="FIRST_COMPLETED")
             except TimeoutError:  # nothing finished within the poll interval; check deadlines
                 done = set()
+            except CancelledError:  # lost with a restarted worker: their result() says so below
+                done = {f for f in pending if f.done() or f.cancelled()}
+                pending = pending - done
             for fut in done:
                 chunk, _ = futures[fut]
                 try:
@@ -123,20 +134,45 @@ class DaskExecutor:
         return [rows[eval_id] for eval_id, _ in jobs]
 
     def _give_up_overdue(self, setup, futures, pending, rows, on_done):
+        """Fail tasks stuck inside a model past every deadline, and restart their workers.
+
+        A simulator checks its deadline between steps; a model that hangs inside one step never
+        does. A task counts as stuck once it has been *executing* (not queued) for longer than
+        its evaluations' timeouts allow; its worker is restarted, which is the only way to stop
+        native code. Tasks queued behind it are rescheduled by dask.
+        """
         now = time.monotonic()
-        still = set()
-        for fut in pending:
-            chunk, submitted = futures[fut]
-            limit = len(chunk) * setup.timeout_s * HARD_TIMEOUT_FACTOR + HARD_TIMEOUT_GRACE_S
-            if now - submitted <= limit:
-                still.add(fut)
+
+        def limit(chunk):
+            return len(chunk) * setup.timeout_s * HARD_TIMEOUT_FACTOR + HARD_TIMEOUT_GRACE_S
+
+        suspects = [f for f in pending if now - futures[f][1] > limit(futures[f][0])]
+        if not suspects:
+            return pending
+        executing = self.client.run(_executing_keys)
+        where = {key: address for address, keys in executing.items() for key in keys}
+        still, stuck_workers = set(pending), set()
+        for fut in suspects:
+            address = where.get(fut.key)
+            if address is None:  # queued behind other work: waiting is not hanging
+                continue
+            chunk, _ = futures[fut]
+            since = self._executing_since.setdefault(fut.key, now)
+            if now - since <= limit(chunk):
                 continue
             fut.cancel()
-            got = [self._failed(setup, eval_id, f"timeout: no answer within {limit:.0f} s; task cancelled") for eval_id, _ in chunk]
+            still.discard(fut)
+            stuck_workers.add(address)
+            message = f"timeout: the model did not return within {limit(chunk):.0f} s (stuck inside a step); worker restarted"
+            got = [self._failed(setup, eval_id, message) for eval_id, _ in chunk]
             for row in got:
                 rows[row["eval_id"]] = row
             if on_done is not None:
                 on_done(got)
+        if stuck_workers:
+            log.warning("restarting %d dask worker(s) stuck past the simulation timeout", len(stuck_workers))
+            self.client.restart_workers(list(stuck_workers), timeout=10, raise_for_error=False)
+            self.share(setup)  # the restarted workers lost their copy; later batches use this one
         return still
 
     @staticmethod
@@ -152,3 +188,8 @@ class DaskExecutor:
             "wall_time_s": math.nan,
             "worker": None,
         }
+
+
+def _executing_keys(dask_worker) -> list:
+    """Keys of the tasks a worker is executing (runs on the worker via Client.run)."""
+    return [ts.key for ts in dask_worker.state.executing]
