@@ -169,6 +169,35 @@ def check(workflow):
 
 
 @main.command()
+@click.argument("workflow", type=click.Path(path_type=Path))
+@click.argument("simulated", type=click.Path(path_type=Path))
+@click.option("--segment", type=click.Choice(["all", "training", "validation"]), default="all", show_default=True)
+@click.option("--time-column", default="time", show_default=True, help="time column of a results table")
+@click.option("--format", "fmt", type=click.Choice(["table", "csv", "json", "markdown"]), default="table", show_default=True)
+def score(workflow, simulated, segment, time_column, fmt):
+    """Score existing results SIMULATED (a table, or the simulator tool's own result file)
+    against the measurements of WORKFLOW with its targets' metrics, without calibrating."""
+    from .score import score as score_results
+
+    table = score_results(workflow, simulated, segment=segment, time_column=time_column)
+    if fmt == "csv":
+        click.echo(table.to_csv(index=False), nl=False)
+    elif fmt == "json":
+        click.echo(table.to_json(orient="records", date_format="iso", indent=1))
+    elif fmt == "markdown":
+        click.echo(_markdown(table))
+    else:
+        click.echo(table.to_string(index=False))
+
+
+def _markdown(table) -> str:
+    head = "| " + " | ".join(map(str, table.columns)) + " |"
+    rule = "|" + "---|" * len(table.columns)
+    rows = ["| " + " | ".join(f"{v:.4g}" if isinstance(v, float) else str(v) for v in row) + " |" for row in table.itertuples(index=False)]
+    return "\n".join([head, rule, *rows])
+
+
+@main.command()
 def plugins():
     """List the installed plugins and what each registers."""
     from .plugin_host import KINDS, get_registry

@@ -115,7 +115,8 @@ class DataConfig(Section):
     """Steps applied in order after ``columns`` and before ``resample``."""
     resample: Duration = None
     """Resample to this period (interval means), e.g. '10min'."""
-    segments: Segments
+    segments: Segments | None = None
+    """Training and validation time ranges; a calibration needs them, scoring does not."""
 
 
 
@@ -281,13 +282,32 @@ class GridConfig(Section):
         return self  # combine rules are checked against the axes by simgap.grid, at their lines
 
 
-class Workflow(Section):
+def _no_duplicate_names(kind: str, items) -> None:
+    names = [i.name for i in items]
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise ValueError(f"{kind} {dup[0]!r} is named twice")
+
+
+class Scoring(Section):
+    """What ``simgap score`` needs: measured data and targets (a simulator only to read its
+    tool's own output files). A full workflow is also a valid scoring file."""
+
     name: str | None = Field(None, pattern=NAME_PATTERN)
     description: str | None = None
     data: DataConfig
+    simulator: SimulatorConfig | None = None
+    targets: list[Target] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _unique_targets(self):
+        _no_duplicate_names("target", self.targets)
+        return self
+
+
+class Workflow(Scoring):
     simulator: SimulatorConfig
     parameters: list[Parameter] = Field(min_length=1)
-    targets: list[Target] = Field(min_length=1)
     optimiser: OptimiserConfig
     execution: ExecutionConfig = Field(default_factory=ExecutionConfig)
     output: str = "runs"
@@ -297,12 +317,8 @@ class Workflow(Section):
     """Run every combination of the axes' variants (simgap.grid), then a cross table."""
 
     @model_validator(mode="after")
-    def _unique(self):
-        for kind, items in (("parameter", self.parameters), ("target", self.targets)):
-            names = [i.name for i in items]
-            dup = sorted({n for n in names if names.count(n) > 1})
-            if dup:
-                raise ValueError(f"{kind} {dup[0]!r} is named twice")
+    def _unique_parameters(self):
+        _no_duplicate_names("parameter", self.parameters)
         return self
 
 

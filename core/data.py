@@ -136,6 +136,8 @@ def _bound(wf: LoadedWorkflow, data: MeasuredData, value, key) -> pd.Timestamp:
 def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]:
     """The training or validation segments as timestamps, checked against the record."""
     cfg = wf.model.data.segments
+    if cfg is None:
+        return []
     ranges: list[TimeRange] = getattr(cfg, kind)
     warmup = parse_duration(cfg.warmup) if cfg.warmup is not None else pd.Timedelta(0)
     index = data.frame.index

@@ -11,7 +11,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import ClassVar, Literal, Mapping
+from typing import ClassVar, Literal, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -118,6 +118,17 @@ class Simulator(ABC):
 
     def close(self) -> None:
         """Free what :meth:`simulate` built (called when a worker shuts down, if at all)."""
+
+    def read_outputs(self, path: Path, names: Sequence[str]) -> pd.DataFrame:
+        """Series ``names`` from a result file the simulator's tool wrote outside simgap.
+
+        Used by ``simgap score`` to score existing results (for instance an EnergyPlus SQLite
+        file) without running anything. Return a DataFrame with one column per name on a
+        DatetimeIndex. Optional: by default a simulator cannot read files.
+        """
+        from .errors import ModelError
+
+        raise ModelError(f"the '{self.name}' simulator cannot read result files; give a Parquet or CSV table with a 'time' column instead")
 
 
 # --------------------------------------------------------------------------------------------

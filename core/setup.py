@@ -172,9 +172,8 @@ def _cases(wf: LoadedWorkflow, data: MeasuredData, segs: list[Segment], token: s
     return cases, pd.concat(rows), initial
 
 
-def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes) -> EvaluationSetup:
-    token = uuid.uuid4().hex[:12]
-    cases, scored, initial = _cases(wf, data, segs, token, notes)
+def targets_and_slots(wf: LoadedWorkflow, registry: Registry, scored: pd.DataFrame) -> tuple[list[TargetData], list[MetricSlot]]:
+    """The measured series of every target on the rows of ``scored``, and a slot per metric."""
     time = scored.index.to_numpy(dtype="datetime64[ns]")
     targets, slots = [], []
     for i, t in enumerate(wf.model.targets):
@@ -192,6 +191,13 @@ def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes)
             if spec.resolution is not None:
                 bins = Bins.of(time, int(parse_duration(spec.resolution).value))
             slots.append(MetricSlot(target=i, key=spec.key, metric=metric, objective=spec.objective, bins=bins))
+    return targets, slots
+
+
+def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes) -> EvaluationSetup:
+    token = uuid.uuid4().hex[:12]
+    cases, scored, initial = _cases(wf, data, segs, token, notes)
+    targets, slots = targets_and_slots(wf, registry, scored)
     timeout = parse_duration(wf.model.execution.timeout).total_seconds()
     return EvaluationSetup(
         token=token,
@@ -218,6 +224,8 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
     optimiser_cls = registry.get("optimiser", m.optimiser.plugin)
     plugin_options(wf, optimiser_cls, m.optimiser.options, ("optimiser",))
 
+    if m.data.segments is None:
+        raise wf.error(("data",), "a calibration needs 'segments' (training, and validation to check it)")
     data = load_measured(wf)
     _check_columns(wf, data)
     train_segs = segments(wf, data, "training")
