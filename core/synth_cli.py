@@ -34,6 +34,7 @@ class SynthSpec(BaseModel):
     record: Literal["all", "electric_only"] | None = None
     seed: int | None = None
     start: str | None = None
+    label: Literal["start", "end"] | None = None
     warmup: Duration = None
 
     @field_validator("effects", mode="before")
@@ -140,6 +141,7 @@ def run_synth(
     record: str | None = None,
     seed: int | None = None,
     start: str | None = None,
+    label: str | None = None,
     warmup: str | None = None,
 ):
     """Merge the spec file with the options and call :func:`simgap.synth.write_dataset`."""
@@ -168,6 +170,7 @@ def run_synth(
         "record": record or spec.record,
         "seed": seed if seed is not None else spec.seed,
         "start": start or spec.start,
+        "label": label or spec.label,
     }
     kwargs.update({k: v for k, v in scalars.items() if v is not None})
     for key, option, value in (("mean_gap_s", "--mean-gap", mean_gap or spec.mean_gap), ("warmup_s", "--warmup", warmup or spec.warmup)):
@@ -206,6 +209,7 @@ def register(main: click.Group) -> None:
     @click.option("--record", type=click.Choice(["all", "electric_only"]), help="electric_only: air_source_hp without fan, pump and compressor signals")
     @click.option("--seed", type=int, help="seed of weather, noise and gaps (default 0)")
     @click.option("--start", metavar="TIMESTAMP", help="time of the first sample (default 2024-01-01 00:00)")
+    @click.option("--label", type=click.Choice(["start", "end"]), help="stamp each interval mean with its start (default, a logger) or its end (a meter)")
     @click.option("--warmup", metavar="DURATION", help="simulated before the record and cut off (default 6h / 2 days)")
     @click.option("--describe", is_flag=True, help="list the model's columns, tuners and effects, and exit")
     def synth(model, output, spec_file, describe: bool, **options):
