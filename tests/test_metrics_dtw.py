@@ -267,3 +267,39 @@ def test_paper_b_shifted_cycles_versus_an_all_zero_prediction(k):
     assert metric(measured, shifted, t) < cvrmse(measured, shifted, t) / 8
     assert metric(measured, never_on, t) > 1.0
     assert metric(measured, shifted, t) < metric(measured, never_on, t)
+
+
+# --------------------------------------------------------------------------------------------
+# the measured side is derived once per target, never reused for other data
+
+
+def test_reused_measured_side_never_serves_other_data():
+    import pickle
+
+    rng = np.random.default_rng(8)
+    m1, m2, s = rng.normal(size=(3, 200)) + 5
+    metric = DTW(DTW.Options(window=10))
+    fresh = lambda m, sim: DTW(DTW.Options(window=10))(m, sim, times(200))  # noqa: E731
+    assert metric(m1, s, times(200)) == fresh(m1, s)
+    assert metric(m1, s + 1, times(200)) == fresh(m1, s + 1)  # same target, new simulation
+    assert metric(m2, s, times(200)) == fresh(m2, s)  # another target
+    changed = m2.copy()
+    metric(changed, s, times(200))
+    changed[50:60] = np.nan  # the caller changes its array in place
+    assert metric(changed, s, times(200)) == fresh(changed, s)
+    by_duration = DTW(DTW.Options(window="4h"))
+    five_min, hourly = times(200), times(200, np.timedelta64(1, "h"))
+    assert by_duration(m2, s, five_min) == DTW()(m2, s, five_min)
+    assert by_duration(m2, s, hourly) == DTW()(m2, s, hourly) != DTW()(m2, s, five_min)
+    assert pickle.loads(pickle.dumps(metric))._memo.get(m2, times(200)) is None  # workers fill their own
+
+
+def test_a_simulated_nan_is_masked_like_a_gap():
+    rng = np.random.default_rng(9)
+    m, s = rng.normal(size=(2, 100)) + 5
+    s_nan = s.copy()
+    s_nan[30] = np.nan
+    m_nan = m.copy()
+    m_nan[30] = np.nan
+    metric = DTW(DTW.Options(window=5))
+    assert metric(m, s_nan, times(100)) == pytest.approx(metric(m_nan, s, times(100)))

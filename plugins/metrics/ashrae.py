@@ -11,8 +11,10 @@ import simgap
 
 from .pointwise import nmbe
 from .series import (
+    MeasuredMemo,
     MetricInputError,
     as_columns,
+    measured_rows,
     nonzero,
     sample_spacing,
     time_axis,
@@ -46,6 +48,10 @@ class ASHRAE14(simgap.Metric):
     Options = ASHRAE14Options
     multi_column = False
 
+    def __init__(self, options=None):
+        super().__init__(options)
+        self._memo = MeasuredMemo()
+
     def __call__(self, measured, simulated, time) -> float:
         cv, bias = self.statistics(measured, simulated, time)
         cv_limit, bias_limit, _, _ = LIMITS[self.options.period]
@@ -58,16 +64,15 @@ class ASHRAE14(simgap.Metric):
             raise MetricInputError(
                 f"metric '{self.name}' scores one column, but the target has {m.shape[1]}"
             )
-        t = time_axis(self.name, time, m.shape[0])
-        keep = valid_rows(self.name, m, s)
-        _, _, unit, longest = LIMITS[self.options.period]
-        spacing = sample_spacing(t)
-        if spacing is not None and spacing > longest:
-            raise MetricInputError(
-                f"metric '{self.name}': period {self.options.period} needs samples at least "
-                f"{self.options.period}, but they are {spacing.astype('timedelta64[m]')} apart"
-            )
-        m_tot, s_tot = period_totals(t, m[:, 0], s[:, 0], keep, unit)
+        bins = self._memo.get(m, time)
+        if bins is None:
+            bins = self._bins(m, time)
+            self._memo.put(m, time, bins)
+        if np.isnan(s).any():
+            keep = valid_rows(self.name, m, s, bins.measured_ok)
+            m_tot, s_tot = bins.total(m[:, 0], keep), bins.total(s[:, 0], keep)
+        else:
+            m_tot, s_tot = bins.measured_totals, bins.total(s[:, 0], bins.measured_ok)
         p = self.options.p
         if m_tot.size - p <= 0:
             raise MetricInputError(
@@ -79,19 +84,36 @@ class ASHRAE14(simgap.Metric):
         cv = np.sqrt(np.dot(e, e) / (m_tot.size - p)) / abs(mean)
         return float(cv), nmbe(self.name, m_tot, s_tot, p)
 
+    def _bins(self, m: np.ndarray, time) -> PeriodBins:
+        t = time_axis(self.name, time, m.shape[0])
+        measured_ok = measured_rows(m)
+        _, _, unit, longest = LIMITS[self.options.period]
+        spacing = sample_spacing(t)
+        if spacing is not None and spacing > longest:
+            raise MetricInputError(
+                f"metric '{self.name}': period {self.options.period} needs samples at least "
+                f"{self.options.period}, but they are {spacing.astype('timedelta64[m]')} apart"
+            )
+        return PeriodBins(t, unit, m[:, 0], measured_ok)
 
-def period_totals(t, m, s, keep, unit):
-    """Per clock hour or calendar month: the mean over valid samples times all samples.
 
-    Scaling the mean of the valid samples by the period's sample count estimates the period's
-    total as if its gaps had the same mean; a period without any valid sample is dropped.
+class PeriodBins:
+    """Samples grouped by clock hour or calendar month, with the measured totals per period.
+
+    A period's total is the mean of its valid samples times its number of samples: it
+    estimates the total as if the gaps had the same mean. A period without any valid sample is
+    dropped.
     """
-    period = t.astype(f"datetime64[{unit}]")
-    _, index = np.unique(period, return_inverse=True)
-    count = np.bincount(index).astype(np.float64)
-    valid = np.bincount(index, weights=keep.astype(np.float64))
-    m_sum = np.bincount(index[keep], weights=m[keep], minlength=count.size)
-    s_sum = np.bincount(index[keep], weights=s[keep], minlength=count.size)
-    has = valid > 0
-    scale = count[has] / valid[has]
-    return m_sum[has] * scale, s_sum[has] * scale
+
+    def __init__(self, t: np.ndarray, unit: str, m: np.ndarray, measured_ok: np.ndarray):
+        _, self.index = np.unique(t.astype(f"datetime64[{unit}]"), return_inverse=True)
+        self.count = np.bincount(self.index).astype(np.float64)
+        self.measured_ok = measured_ok
+        self.measured_totals = self.total(m, measured_ok)
+
+    def total(self, values: np.ndarray, keep: np.ndarray) -> np.ndarray:
+        """Estimated total per period of ``values`` over the rows in ``keep``."""
+        valid = np.bincount(self.index[keep], minlength=self.count.size)
+        sums = np.bincount(self.index[keep], weights=values[keep], minlength=self.count.size)
+        has = valid > 0
+        return sums[has] * (self.count[has] / valid[has])

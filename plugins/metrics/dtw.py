@@ -8,6 +8,7 @@ turns it into CV(RMSE): the percentages of paper B's Table 4. docs/metrics.md ha
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -17,8 +18,10 @@ from pydantic import AliasChoices, Field, field_validator
 import simgap
 
 from .series import (
+    MeasuredMemo,
     MetricInputError,
     as_columns,
+    measured_rows,
     nonzero,
     sample_spacing,
     time_axis,
@@ -62,6 +65,20 @@ class DTWOptions(simgap.PluginOptions):
         return value
 
 
+@dataclass(frozen=True)
+class _MeasuredSide:
+    """Everything DTW derives from the measured series and its times alone."""
+
+    time: np.ndarray
+    measured_ok: np.ndarray
+    spacing: np.timedelta64 | None
+    window: int
+    runs: list[tuple[int, int]]
+    mean: float
+    factor: np.ndarray | None
+    """1 / scale of each column for a multi-column target, else None."""
+
+
 class DTW(simgap.Metric):
     """Banded DTW with squared point differences, optionally over k-sample, multi-column points.
 
@@ -77,6 +94,7 @@ class DTW(simgap.Metric):
     def __init__(self, options=None):
         super().__init__(options)
         self.unit = {"cv": "", "rms": "target", "sum": "target^2"}[self.options.normalise]
+        self._memo = MeasuredMemo()
         # numba (≈0.4 s to import) loads only once a workflow uses DTW; compiling or loading
         # the cached kernels here surfaces that cost before the first evaluation.
         from . import dtw_kernels
@@ -98,24 +116,30 @@ class DTW(simgap.Metric):
 
         For several columns the sum is of the scaled columns and the mean is NaN.
         """
-        m, s = as_columns(self.name, measured, simulated)
-        t = time_axis(self.name, time, m.shape[0])
-        keep = valid_rows(self.name, m, s)
-        spacing = sample_spacing(t)
-        window = self.window_samples(spacing)
-        m_valid = m[keep]
-        mean = float(np.mean(m_valid)) if m.shape[1] == 1 else float("nan")
-        if m.shape[1] > 1:
-            factor = 1.0 / self._column_scales(m_valid)
-            m = m * factor
-            s = s * factor
-
         from . import dtw_kernels
 
+        m, s = as_columns(self.name, measured, simulated)
+        side = self._memo.get(m, time)
+        if side is None:
+            side = self._measured_side(m, time)
+            self._memo.put(m, time, side)
+        mean = side.mean
+        if np.isnan(s).any():
+            keep = valid_rows(self.name, m, s, side.measured_ok)
+            runs = contiguous_runs(side.time, keep, side.spacing)
+            if m.shape[1] == 1:
+                mean = float(np.mean(m[keep, 0]))
+        else:
+            runs = side.runs
+        if side.factor is not None:
+            m = m * side.factor
+            s = s * side.factor
+
         k = self.options.k
+        window = side.window
         total = 0.0
         points = 0
-        for start, stop in contiguous_runs(t, keep, spacing):
+        for start, stop in runs:
             length = stop - start
             if length < k:
                 continue
@@ -135,6 +159,22 @@ class DTW(simgap.Metric):
                 f"between the gaps (NaN)"
             )
         return total, points, m.shape[1], mean
+
+    def _measured_side(self, m: np.ndarray, time) -> _MeasuredSide:
+        t = time_axis(self.name, time, m.shape[0])
+        measured_ok = measured_rows(m)
+        spacing = sample_spacing(t)
+        m_valid = m[measured_ok]
+        single = m.shape[1] == 1
+        return _MeasuredSide(
+            time=t,
+            measured_ok=measured_ok,
+            spacing=spacing,
+            window=self.window_samples(spacing),
+            runs=contiguous_runs(t, measured_ok, spacing),
+            mean=float(np.mean(m_valid)) if single else float("nan"),
+            factor=None if single else 1.0 / self._column_scales(m_valid),
+        )
 
     def window_samples(self, spacing: np.timedelta64 | None) -> int:
         """The window as a sample count: a duration is divided by the sample spacing."""

@@ -37,15 +37,23 @@ def as_columns(name: str, measured, simulated) -> tuple[np.ndarray, np.ndarray]:
     return m, s
 
 
-def valid_rows(name: str, m: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """Rows to score: every measured and simulated column has a value there.
-
-    A non-finite measured value is a gap. A simulated NaN is masked too, but a simulated ±inf
-    is kept, so a diverging simulation scores +inf instead of being quietly skipped.
-    """
+def measured_rows(m: np.ndarray) -> np.ndarray:
+    """Rows where every measured column has a value; a non-finite measurement is a gap."""
     measured_ok = np.isfinite(m).all(axis=1)
     if not measured_ok.any():
         raise MetricInputError(NO_MEASURED_LEFT)
+    return measured_ok
+
+
+def valid_rows(name: str, m: np.ndarray, s: np.ndarray, measured_ok=None) -> np.ndarray:
+    """Rows to score: every measured and simulated column has a value there.
+
+    A simulated NaN is masked like a measured gap, but a simulated ±inf is kept, so a diverging
+    simulation scores +inf instead of being quietly skipped. ``measured_ok`` may be passed in
+    when already known.
+    """
+    if measured_ok is None:
+        measured_ok = measured_rows(m)
     keep = measured_ok & ~np.isnan(s).any(axis=1)
     if not keep.any():
         raise MetricInputError(
@@ -94,3 +102,41 @@ def sample_spacing(t: np.ndarray) -> np.timedelta64 | None:
     if t.size < 2:
         return None
     return np.timedelta64(int(np.median(np.diff(t.view(np.int64)))), "ns")
+
+
+class MeasuredMemo:
+    """What a metric derived from the last measured series and time axis it was given.
+
+    A target's measured data and times are the same in every evaluation; only the simulation
+    changes. On a day of data, re-deriving the measured side (time checks, gap runs, scales,
+    period bins) took several times as long as the DTW kernel itself. A hit needs equal
+    contents (not the same objects), compared against private copies, so a caller that reuses
+    or changes its arrays is still scored right. Pickles empty: workers fill their own.
+    """
+
+    def __init__(self):
+        self._measured: np.ndarray | None = None
+        self._time: np.ndarray | None = None
+        self._value = None
+
+    def get(self, measured: np.ndarray, time) -> object | None:
+        if self._measured is None:
+            return None
+        time = np.asarray(time)
+        if (
+            measured.shape == self._measured.shape
+            and time.shape == self._time.shape
+            and time.dtype == self._time.dtype
+            and np.array_equal(time, self._time)
+            and np.array_equal(measured, self._measured, equal_nan=True)
+        ):
+            return self._value
+        return None
+
+    def put(self, measured: np.ndarray, time, value) -> None:
+        self._measured = np.array(measured, copy=True)
+        self._time = np.array(time, copy=True)
+        self._value = value
+
+    def __reduce__(self):
+        return (MeasuredMemo, ())

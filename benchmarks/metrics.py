@@ -1,0 +1,185 @@
+"""Metric speed: banded DTW against dtaidistance, numba start-up, every metric against a simulation.
+
+    python benchmarks/metrics.py            # about 1–2 minutes on 2 cores
+
+1. DTW kernel (univariate, one sample per point, squared differences, window |i − j| ≤ w) on
+   random series for paper B's cases: n = 288 (a day at 5 min), 8640 (30 days), 129 600
+   (a day and a half at 1 s) with w = 48, and 129 600 with w = 12 960. Beside it dtaidistance's
+   ``distance_fast`` on the same data (its ``window`` is w + 1 and it returns the square root,
+   so the benchmark passes w + 1 and squares the result to check both agree). Cells are the band
+   cells n·(2w + 1) − w·(w + 1); the ratio is dtaidistance's time / simgap's.
+   Target: ≥ 3× faster than dtaidistance on the banded cases.
+   dtaidistance is installed for this benchmark only (``pip install dtaidistance``); without
+   it the comparison columns say so.
+2. The same kernel with paper B's 6-sample points, and a two-column target.
+3. numba start-up: the first DTW in a fresh process, with an empty cache (compiles) and with the
+   cache filled by that run (loads). A CLI run pays one of them once per process.
+4. Every metric on the quickstart workflow's training data (P_el, 289 samples at 10 min), as a
+   share of one quickstart simulation timed here through the FMU plugin (falls back to an
+   assumed 5 ms with synthetic data if the quickstart cannot be prepared).
+   Target: each metric below 5 % of one simulation.
+
+Times are medians of repeated runs in one process.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from simgap.plugins.metrics import DTW, METRICS
+from simgap.plugins.metrics.dtw_kernels import banded_dtw, banded_dtw_1d, warm_up
+
+REPO = Path(__file__).resolve().parents[1]
+ASSUMED_SIMULATION_S = 5e-3
+
+try:
+    from dtaidistance import dtw as dtai
+except ImportError:  # the comparison is optional
+    dtai = None
+
+
+def median_time(fn, repeats: int) -> tuple[float, object]:
+    times, value = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        value = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), value
+
+
+def band_cells(n: int, w: int) -> int:
+    w = min(w, n - 1)
+    return n * (2 * w + 1) - w * (w + 1)
+
+
+def dtw_against_dtaidistance() -> None:
+    print("1. DTW kernel, univariate, k = 1 (median times)")
+    print(
+        f"{'n':>7} {'w':>6} {'cells':>11} | {'simgap ms':>10} {'ns/cell':>7} {'Mcell/s':>8} | "
+        f"{'dtai ms':>9} {'ns/cell':>7} {'Mcell/s':>8} | {'speed-up':>8} {'agree':>6}"
+    )
+    rng = np.random.default_rng(0)
+    warm_up()
+    for n, w, repeats in [(288, 48, 301), (8640, 48, 31), (129600, 48, 7), (129600, 12960, 3)]:
+        a = np.cumsum(rng.normal(size=n))
+        b = a + rng.normal(size=n)
+        cells = band_cells(n, w)
+        ours, value = median_time(lambda: banded_dtw_1d(a, b, w), repeats)
+        line = (
+            f"{n:>7} {w:>6} {cells:>11,} | {ours * 1e3:>10.3f} {ours / cells * 1e9:>7.2f} "
+            f"{cells / ours / 1e6:>8.0f} | "
+        )
+        if dtai is None:
+            line += f"{'dtaidistance not installed':>27} | {'—':>8} {'—':>6}"
+        else:
+            theirs, root = median_time(
+                lambda: dtai.distance_fast(a, b, window=w + 1, use_pruning=False), repeats
+            )
+            agree = "yes" if np.isclose(root**2, value, rtol=1e-9) else f"NO {root**2:.6g}"
+            line += (
+                f"{theirs * 1e3:>9.3f} {theirs / cells * 1e9:>7.2f} {cells / theirs / 1e6:>8.0f} | "
+                f"{theirs / ours:>7.1f}× {agree:>6}"
+            )
+        print(line)
+    if dtai is None:
+        print("   (pip install dtaidistance into the venv for the comparison columns)")
+
+
+def dtw_points_and_columns() -> None:
+    print("\n2. DTW kernel with k-sample points and two columns (n = 8640, w = 48)")
+    rng = np.random.default_rng(1)
+    n, w = 8640, 48
+    cells = band_cells(n, w)
+    for k, d in [(1, 1), (6, 1), (1, 2), (6, 2)]:
+        a = np.ascontiguousarray(rng.normal(size=(d, n)))
+        b = np.ascontiguousarray(rng.normal(size=(d, n)))
+        t, _ = median_time(lambda: banded_dtw(a, b, w, k), 21)
+        print(f"   k = {k}, d = {d}: {t * 1e3:7.3f} ms, {t / cells * 1e9:5.2f} ns/cell")
+
+
+STARTUP = """
+import time
+t0 = time.perf_counter()
+from simgap.plugins.metrics import dtw_kernels
+t1 = time.perf_counter()
+dtw_kernels.warm_up()
+t2 = time.perf_counter()
+print(f"{t1 - t0:.3f} {t2 - t1:.3f}")
+"""
+
+
+def numba_startup() -> None:
+    print("\n3. numba start-up of the DTW kernels in a fresh process (import incl. numba, warm-up)")
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        for label in ("empty cache (compile)", "filled cache (load)"):
+            out = subprocess.run(
+                [sys.executable, "-c", STARTUP], env=env, capture_output=True, text=True, check=True
+            ).stdout.split()
+            print(f"   {label:<22} import {float(out[0]):.2f} s, first warm-up {float(out[1]):.2f} s")
+
+
+def quickstart_case():
+    """(measured P_el, simulated P_el, time, seconds per simulation, label)."""
+    try:
+        from simgap.setup import prepare
+
+        prepared = prepare(REPO / "workflows" / "quickstart.yaml")
+        setup = prepared.training
+        truth = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
+
+        def simulate():
+            return [setup.simulator.simulate(truth, case) for case in setup.cases]
+
+        simulate()
+        seconds, results = median_time(simulate, 41)
+        target = next(t for t in setup.targets if t.name == "P_el")
+        simulated = np.concatenate([r["P_el"] for r in results])
+        return target.measured, simulated, target.time, seconds, "measured quickstart simulation"
+    except Exception as exc:  # the benchmark still says something without the FMU tool chain
+        print(f"   (quickstart not available: {type(exc).__name__}: {exc}; synthetic data)")
+        rng = np.random.default_rng(2)
+        n = 289
+        t = (np.datetime64("2025-01-13") + np.arange(n) * np.timedelta64(10, "m")).astype(
+            "datetime64[ns]"
+        )
+        m = np.clip(1500 + 800 * np.sin(np.arange(n) / 20) + rng.normal(0, 50, n), 0, None)
+        return m, m * 1.05, t, ASSUMED_SIMULATION_S, "assumed"
+
+
+def metrics_against_a_simulation() -> None:
+    print("\n4. Every metric on the quickstart's P_el target against one quickstart simulation")
+    measured, simulated, t, sim_s, label = quickstart_case()
+    print(
+        f"   one simulation: {sim_s * 1e3:.2f} ms ({label}); {measured.shape[0]} samples; "
+        f"reference also shown: {ASSUMED_SIMULATION_S * 1e3:.0f} ms"
+    )
+    print(f"   {'metric':<28} {'µs':>8} {'% of sim':>9} {'% of 5 ms':>10}")
+    entries = [(cls.name, cls()) for cls in METRICS]
+    entries.append(("dtw window 48, k 6", DTW(DTW.Options(window=48, k=6))))
+    for name, metric in entries:
+        metric(measured, simulated, t)
+        seconds, _ = median_time(lambda: metric(measured, simulated, t), 301)
+        print(
+            f"   {name:<28} {seconds * 1e6:>8.1f} {seconds / sim_s * 100:>8.2f}% "
+            f"{seconds / ASSUMED_SIMULATION_S * 100:>9.2f}%"
+        )
+
+
+def main() -> None:
+    dtw_against_dtaidistance()
+    dtw_points_and_columns()
+    numba_startup()
+    metrics_against_a_simulation()
+
+
+if __name__ == "__main__":
+    main()
