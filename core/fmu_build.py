@@ -51,7 +51,7 @@ def build_fmu(source_dir: Path, cache_dir: Path) -> Path:
         )
     include_dir = _fmi_headers()
 
-    digest = _source_digest(source_dir, compiler)
+    digest = _source_digest(source_dir, compiler_path, c_files, include_dir)
     target = Path(cache_dir) / "fmus" / f"{identifiers[0]}-{digest}.fmu"
     if target.is_file():
         return target
@@ -125,14 +125,30 @@ def _fmi_headers() -> Path:
     return include_dir
 
 
-def _source_digest(source_dir: Path, compiler: str) -> str:
+def _source_digest(source_dir: Path, compiler: str, c_files: list[Path], include_dir: Path) -> str:
+    """Hash of the recipe and of every file the compiler reads (sources may include shared files
+    from elsewhere, as the example models include ../common/fmi2_glue.c)."""
     digest = hashlib.sha256()
-    digest.update(f"recipe {_RECIPE_VERSION} {compiler} {' '.join(_COMPILE_FLAGS)}\n".encode())
-    for path in sorted(source_dir.iterdir()):
-        if path.name == "modelDescription.xml" or path.suffix in _SOURCE_SUFFIXES:
-            digest.update(f"{path.name}\n{path.stat().st_size}\n".encode())
-            digest.update(path.read_bytes())
+    digest.update(f"recipe {_RECIPE_VERSION} {Path(compiler).name} {' '.join(_COMPILE_FLAGS)}\n".encode())
+    files = [source_dir / "modelDescription.xml", *_dependencies(compiler, c_files, source_dir, include_dir)]
+    for path in files:
+        digest.update(f"{path.name}\n{path.stat().st_size}\n".encode())
+        digest.update(path.read_bytes())
     return digest.hexdigest()[:16]
+
+
+def _dependencies(compiler: str, c_files: list[Path], source_dir: Path, include_dir: Path) -> list[Path]:
+    """The sources and non-system headers the compiler reads (``-MM``), in a stable order."""
+    command = [compiler, "-MM", f"-I{source_dir}", f"-I{include_dir}", *map(str, c_files)]
+    try:
+        result = subprocess.run(command, capture_output=True, text=True, timeout=60)
+    except OSError:
+        result = None
+    if result is None or result.returncode != 0:  # the compile itself will report why
+        return sorted(p for p in source_dir.iterdir() if p.suffix in _SOURCE_SUFFIXES)
+    words = result.stdout.replace("\\\n", " ").split()
+    paths = {Path(w).resolve() for w in words if not w.endswith(":")}
+    return sorted(paths, key=lambda p: (p.name, str(p)))
 
 
 def _compile(command: list[str], source_dir: Path) -> None:
