@@ -29,8 +29,17 @@ from numba import njit
 
 _REFRESH = 64
 
+# Explicit signatures: one compiled version per function (no literal-argument variants), built
+# or loaded from numba's cache when this module is imported. Arrays must be C-contiguous.
+_VEC = "float64[::1]"
+_MAT = "float64[:, ::1]"
 
-@njit(cache=True)
+
+def _INTS(count: int) -> str:
+    return ", ".join(["int64"] * count)
+
+
+@njit("UniTuple(int64, 2)(int64, int64, int64)", cache=True)
 def _valid_q_range(s, w, m):
     """First and last q of anti-diagonal s inside both the band and the m×m matrix."""
     last = 2 * (m - 1)
@@ -43,7 +52,7 @@ def _valid_q_range(s, w, m):
     return (d_lo + w) // 2, (d_hi + w) // 2
 
 
-@njit(cache=True)
+@njit("void(float64[::1], int64, int64, int64)", cache=True)
 def _clear_outside(cur, q_lo, q_hi, w):
     """Set the buffer slots of anti-diagonal cells outside the matrix to +inf."""
     for q in range(0, q_lo):
@@ -52,7 +61,7 @@ def _clear_outside(cur, q_lo, q_hi, w):
         cur[q + 1] = np.inf
 
 
-@njit(cache=True, inline="never")
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(5)})", cache=True)
 def _sweep_1d(cur, prev1, prev2, a_rev, b, ia, jb, r, lo, hi):
     """One anti-diagonal, univariate one-sample points: cost computed in the same loop."""
     n = hi - lo + 1
@@ -67,7 +76,7 @@ def _sweep_1d(cur, prev1, prev2, a_rev, b, ia, jb, r, lo, hi):
         out[t] = d * d + min(diag[t], min(left[t], up[t]))
 
 
-@njit(cache=True, inline="never")
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(3)})", cache=True)
 def _sweep_cost(cur, prev1, prev2, cost, r, lo, hi):
     """One anti-diagonal with the point costs already in ``cost`` (indexed like the buffers)."""
     n = hi - lo + 1
@@ -81,7 +90,7 @@ def _sweep_cost(cur, prev1, prev2, cost, r, lo, hi):
         out[t] = max(c[t], 0.0) + min(diag[t], min(left[t], up[t]))
 
 
-@njit(cache=True)
+@njit(f"float64({_VEC}, {_VEC}, int64)", cache=True)
 def banded_dtw_1d(a, b, w):
     """Raw DTW sum of two equally long 1-D float64 series, one sample per point, window w."""
     m = a.shape[0]
@@ -117,7 +126,7 @@ def banded_dtw_1d(a, b, w):
     return prev1[w // 2 + 1]
 
 
-@njit(cache=True, inline="never")
+@njit(f"void({_VEC}, {_MAT}, {_MAT}, {_INTS(3)}, float64)", cache=True)
 def _add_sample_costs(out, a_rev_t, b_t, ia, jb, n, sign):
     """out[t] += sign · Σ_c (a_rev_t[c, ia + t] − b_t[c, jb + t])² for t < n."""
     for c in range(b_t.shape[0]):
@@ -128,7 +137,7 @@ def _add_sample_costs(out, a_rev_t, b_t, ia, jb, n, sign):
             out[t] += sign * (d * d)
 
 
-@njit(cache=True)
+@njit(f"void({_VEC}, {_MAT}, {_MAT}, {_INTS(4)})", cache=True)
 def _fresh_point_costs(out, a_rev_t, b_t, ia, jb, n, k):
     """out[t] = cost of the k-sample points at a_rev index ia + t and b index jb + t."""
     out[:n] = 0.0
@@ -136,7 +145,7 @@ def _fresh_point_costs(out, a_rev_t, b_t, ia, jb, n, k):
         _add_sample_costs(out, a_rev_t, b_t, ia - lag, jb + lag, n, 1.0)
 
 
-@njit(cache=True)
+@njit(f"float64({_MAT}, {_MAT}, int64, int64)", cache=True)
 def banded_dtw(a_t, b_t, w, k):
     """Raw DTW sum of two (d, n) float64 series (columns as rows) with k-sample points.
 
@@ -207,7 +216,7 @@ def banded_dtw(a_t, b_t, w, k):
 
 
 def warm_up() -> None:
-    """Compile, or load from numba's on-disk cache, every kernel on tiny inputs."""
+    """Run every kernel once on tiny inputs (importing this module compiled or loaded them)."""
     x = np.zeros(4)
     banded_dtw_1d(x, x, 1)
     x2 = np.zeros((1, 4))
