@@ -161,7 +161,7 @@ def test_workflow_passes_check(name):
 @pytest.mark.parametrize("name", MODEL_WORKFLOWS)
 def test_workflow_runs_end_to_end_with_a_tiny_budget(name, tmp_path):
     text = absolutise((WORKFLOWS / f"{name}.yaml").read_text(), WORKFLOWS)
-    text = re.sub(r"budget: \{evaluations: \d+\}", "budget: {evaluations: 8}", text)
+    text = re.sub(r"budget: \{evaluations: \d+\}", "budget: {evaluations: 4}", text)
     text = re.sub(r"options: \{population: \d+\}", "options: {population: 4}", text)
     text = re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M)
     path = tmp_path / f"{name}.yaml"
@@ -169,7 +169,7 @@ def test_workflow_runs_end_to_end_with_a_tiny_budget(name, tmp_path):
     result = CliRunner().invoke(main, ["run", str(path), "--workers", "1"])
     assert result.exit_code == 0, result.output
     run = simgap.load_run(tmp_path / "runs")
-    assert len(run.evaluations) >= 8 and (run.evaluations["status"] == "ok").all(), run.evaluations["error"].dropna().tolist()
+    assert len(run.evaluations) >= 4 and (run.evaluations["status"] == "ok").all(), run.evaluations["error"].dropna().tolist()
     wf = load_workflow(path).model
     objectives = [f"objective.{t.name}.{m.key}" for t in wf.targets for m in t.metrics if m.objective]
     assert np.isfinite(run.evaluations[objectives].to_numpy()).all()
@@ -241,3 +241,35 @@ def test_brine_workflow_reproduces_the_measurement_with_ibpsa_values():
     worse = evaluate(prepared.validation, 1, {**IBPSA, "etaCarnot_nominal": 0.6})["errors"]
     assert worse["T_supply.rmse"] > 2 * errors["T_supply.rmse"]
     assert math.isfinite(errors["T_supply.cvrmse"])
+
+
+# --------------------------------------------------------------------------------------------
+# the calibrations of issue 3 (minutes each: pytest -m slow)
+
+
+def _benchmark():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("calibrate_models", REPO / "benchmarks" / "calibrate_models.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.slow
+def test_air_source_front_near_the_truth_beats_paper_a_on_validation(tmp_path):
+    """Noise-free synthetic data, all 13 tuners: the front's solution nearest the truth has a
+    validation CV(RMSE) below paper A's on both targets (0.0085 flow temperature, 0.1343 power)."""
+    result = _benchmark().main(["air_source", "--evaluations", "3000", "--keep", str(tmp_path)])
+    nearest = result["nearest"]
+    assert nearest["validation.THCFlow.cvrmse"] < 0.0085
+    assert nearest["validation.PEl.cvrmse"] < 0.1343
+
+
+@pytest.mark.slow
+def test_brine_calibration_on_the_real_record_matches_ibpsa_or_better(tmp_path):
+    result = _benchmark().main(["brine", "--evaluations", "1600", "--keep", str(tmp_path)])
+    knee, best_supply = result["featured"]["knee"], result["featured"]["best T_supply"]
+    ibpsa = result["ibpsa"]["validation"]
+    assert knee["validation.T_supply.rmse"] < 1.0 and knee["validation.P_el.cvrmse"] < 0.15
+    assert best_supply["validation.T_supply.rmse"] <= ibpsa["T_supply.rmse"]
