@@ -33,7 +33,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-
 from simgap.plugins.metrics import DTW, METRICS
 from simgap.plugins.metrics.dtw_kernels import banded_dtw, banded_dtw_1d, warm_up
 
@@ -72,7 +71,7 @@ def dtw_against_dtaidistance() -> None:
         a = np.cumsum(rng.normal(size=n))
         b = a + rng.normal(size=n)
         cells = band_cells(n, w)
-        ours, value = median_time(lambda: banded_dtw_1d(a, b, w), repeats)
+        ours, value = median_time(lambda a=a, b=b, w=w: banded_dtw_1d(a, b, w), repeats)
         line = (
             f"{n:>7} {w:>6} {cells:>11,} | {ours * 1e3:>10.3f} {ours / cells * 1e9:>7.2f} "
             f"{cells / ours / 1e6:>8.0f} | "
@@ -81,7 +80,8 @@ def dtw_against_dtaidistance() -> None:
             line += f"{'dtaidistance not installed':>27} | {'—':>8} {'—':>6}"
         else:
             theirs, root = median_time(
-                lambda: dtai.distance_fast(a, b, window=w + 1, use_pruning=False), repeats
+                lambda a=a, b=b, w=w: dtai.distance_fast(a, b, window=w + 1, use_pruning=False),
+                repeats,
             )
             agree = "yes" if np.isclose(root**2, value, rtol=1e-9) else f"NO {root**2:.6g}"
             line += (
@@ -101,7 +101,7 @@ def dtw_points_and_columns() -> None:
     for k, d in [(1, 1), (6, 1), (1, 2), (6, 2)]:
         a = np.ascontiguousarray(rng.normal(size=(d, n)))
         b = np.ascontiguousarray(rng.normal(size=(d, n)))
-        t, _ = median_time(lambda: banded_dtw(a, b, w, k), 21)
+        t, _ = median_time(lambda a=a, b=b, k=k: banded_dtw(a, b, w, k), 21)
         print(f"   k = {k}, d = {d}: {t * 1e3:7.3f} ms, {t / cells * 1e9:5.2f} ns/cell")
 
 
@@ -144,7 +144,7 @@ def quickstart_case():
         target = next(t for t in setup.targets if t.name == "P_el")
         simulated = np.concatenate([r["P_el"] for r in results])
         return target.measured, simulated, target.time, seconds, "measured quickstart simulation"
-    except Exception as exc:  # the benchmark still says something without the FMU tool chain
+    except Exception as exc:  # noqa: BLE001 - without the FMU tool chain, still measure
         print(f"   (quickstart not available: {type(exc).__name__}: {exc}; synthetic data)")
         rng = np.random.default_rng(2)
         n = 289
@@ -167,7 +167,7 @@ def metrics_against_a_simulation() -> None:
     entries.append(("dtw window 48, k 6", DTW(DTW.Options(window=48, k=6))))
     for name, metric in entries:
         metric(measured, simulated, t)
-        seconds, _ = median_time(lambda: metric(measured, simulated, t), 301)
+        seconds, _ = median_time(lambda metric=metric: metric(measured, simulated, t), 301)
         print(
             f"   {name:<28} {seconds * 1e6:>8.1f} {seconds / sim_s * 100:>8.2f}% "
             f"{seconds / ASSUMED_SIMULATION_S * 100:>9.2f}%"

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pydantic
 import pytest
-
 import simgap
 from simgap.plugin_host import get_registry
 from simgap.plugins.metrics import (

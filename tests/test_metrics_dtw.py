@@ -11,7 +11,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
-
 from simgap.plugins.metrics import CVRMSE, DTW, MetricInputError
 from simgap.plugins.metrics.dtw_kernels import banded_dtw, banded_dtw_1d
 
@@ -279,7 +278,7 @@ def test_reused_measured_side_never_serves_other_data():
     rng = np.random.default_rng(8)
     m1, m2, s = rng.normal(size=(3, 200)) + 5
     metric = DTW(DTW.Options(window=10))
-    fresh = lambda m, sim: DTW(DTW.Options(window=10))(m, sim, times(200))  # noqa: E731
+    fresh = lambda m, sim: DTW(DTW.Options(window=10))(m, sim, times(200))
     assert metric(m1, s, times(200)) == fresh(m1, s)
     assert metric(m1, s + 1, times(200)) == fresh(m1, s + 1)  # same target, new simulation
     assert metric(m2, s, times(200)) == fresh(m2, s)  # another target
@@ -303,3 +302,12 @@ def test_a_simulated_nan_is_masked_like_a_gap():
     m_nan[30] = np.nan
     metric = DTW(DTW.Options(window=5))
     assert metric(m, s_nan, times(100)) == pytest.approx(metric(m_nan, s, times(100)))
+
+
+def test_read_only_inputs_as_pandas_hands_them_out():
+    rng = np.random.default_rng(10)
+    m, s = rng.normal(size=(2, 100)) + 5
+    expected = [dtw(m, s, window=5, k=k) for k in (1, 3)]
+    m.flags.writeable = False
+    s.flags.writeable = False
+    assert [dtw(m, s, window=5, k=k) for k in (1, 3)] == expected

@@ -5,9 +5,8 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from pydantic import Field
-
 import simgap
+from pydantic import Field
 
 from .pointwise import nmbe
 from .series import (

@@ -13,9 +13,8 @@ from typing import Literal
 
 import numpy as np
 import pandas as pd
-from pydantic import AliasChoices, Field, field_validator
-
 import simgap
+from pydantic import AliasChoices, Field, field_validator
 
 from .series import (
     MeasuredMemo,
@@ -146,13 +145,10 @@ class DTW(simgap.Metric):
             points += length - k + 1
             a, b = m[start:stop], s[start:stop]
             if k == 1 and a.shape[1] == 1:
-                total += dtw_kernels.banded_dtw_1d(
-                    np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(b[:, 0]), window
-                )
+                a1, b1 = _kernel_array(a[:, 0]), _kernel_array(b[:, 0])
+                total += dtw_kernels.banded_dtw_1d(a1, b1, window)
             else:
-                total += dtw_kernels.banded_dtw(
-                    np.ascontiguousarray(a.T), np.ascontiguousarray(b.T), window, k
-                )
+                total += dtw_kernels.banded_dtw(_kernel_array(a.T), _kernel_array(b.T), window, k)
         if points == 0:
             raise MetricInputError(
                 f"metric '{self.name}': no run of k = {k} consecutive valid samples "
@@ -184,7 +180,7 @@ class DTW(simgap.Metric):
         if spacing is None:
             return 0
         duration = pd.Timedelta(window).value
-        return int(round(duration / int(spacing.astype("timedelta64[ns]").view(np.int64))))
+        return round(duration / int(spacing.astype("timedelta64[ns]").view(np.int64)))
 
     def _column_scales(self, m_valid: np.ndarray) -> np.ndarray:
         how = self.options.scale
@@ -197,6 +193,12 @@ class DTW(simgap.Metric):
         for column, value in enumerate(scales):
             nonzero(self.name, float(value), f"the measured {how} of column {column}")
         return scales
+
+
+def _kernel_array(x: np.ndarray) -> np.ndarray:
+    """C-contiguous and writeable, as the kernels' signatures say (pandas hands out read-only
+    arrays); copies only when needed."""
+    return np.require(x, np.float64, ["C_CONTIGUOUS", "WRITEABLE"])
 
 
 def contiguous_runs(t: np.ndarray, keep: np.ndarray, spacing) -> list[tuple[int, int]]:

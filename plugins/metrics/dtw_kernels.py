@@ -55,7 +55,7 @@ def _valid_q_range(s, w, m):
 @njit("void(float64[::1], int64, int64, int64)", cache=True)
 def _clear_outside(cur, q_lo, q_hi, w):
     """Set the buffer slots of anti-diagonal cells outside the matrix to +inf."""
-    for q in range(0, q_lo):
+    for q in range(q_lo):
         cur[q + 1] = np.inf
     for q in range(q_hi + 1, w + 2):
         cur[q + 1] = np.inf
@@ -96,8 +96,7 @@ def banded_dtw_1d(a, b, w):
     m = a.shape[0]
     if m == 0:
         return 0.0
-    if w > m - 1:
-        w = m - 1
+    w = min(w, m - 1)
     if w <= 0:
         total = 0.0
         for i in range(m):
@@ -156,8 +155,7 @@ def banded_dtw(a_t, b_t, w, k):
     m = n - k + 1
     if m <= 0:
         return 0.0
-    if w > m - 1:
-        w = m - 1
+    w = min(w, m - 1)
     if w <= 0:
         costs = np.zeros(n)
         _add_sample_costs(costs, a_t, b_t, 0, 0, n, 1.0)

@@ -10,9 +10,8 @@ from __future__ import annotations
 from typing import ClassVar, Literal
 
 import numpy as np
-from pydantic import Field
-
 import simgap
+from pydantic import Field
 
 from .series import MetricInputError, nonzero, single_column
 
