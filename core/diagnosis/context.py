@@ -48,7 +48,7 @@ class DiagnoseConfig(BaseModel):
     """Effects to test (default: every installed effect that applies)."""
     significance: float = Field(0.01, gt=0, lt=1)
     """Largest p-value (circular-shift test) at which an effect counts as significant."""
-    min_share: float = Field(0.10, ge=0, le=1)
+    min_share: float = Field(0.05, ge=0, le=1)
     """Smallest chance-corrected share of the residual an effect must explain to be claimed."""
     min_shrink: float = Field(0.2, ge=0, le=1)
     """Smallest validation-gap shrink that confirms a significant effect once recalibrated."""

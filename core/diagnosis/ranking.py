@@ -43,7 +43,11 @@ class Candidate:
     """Passes the screening: p-value and share thresholds."""
     gap_shrink: float | None = None
     """Validation-gap shrink once recalibrated with the effect (None: not recalibrated)."""
+    shrink_vs_control: float | None = None
+    """The same, against a re-tuning without any effect (what the effect itself adds)."""
     min_shrink: float = 0.0
+    confirm: bool = False
+    """True when recalibrations confirm claims (a recalibration budget was given)."""
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     """Per target, the part of the residual the effect's features reproduce."""
 
@@ -52,7 +56,12 @@ class Candidate:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap."""
         if not self.significant:
             return False
-        return self.gap_shrink is None or self.gap_shrink >= self.min_shrink
+        if self.gap_shrink is None:
+            # not recalibrated: the signature is all the evidence where the effect cannot be added
+            # or no recalibration was asked for; otherwise it was outranked within the budget
+            return self.addition is None or not self.confirm
+        confirming = self.shrink_vs_control if self.shrink_vs_control is not None else self.gap_shrink
+        return confirming >= self.min_shrink
 
     def as_dict(self) -> dict:
         return {
@@ -68,6 +77,7 @@ class Candidate:
             "p_value": self.p_value,
             "significant": self.significant,
             "gap_shrink": self.gap_shrink,
+            "shrink_vs_control": self.shrink_vs_control,
             "claimed": self.claimed,
             "per_target": self.per_target,
         }
@@ -250,8 +260,10 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             raws.append(observed)
             ps.append(p)
             cand.features = sorted(set(cand.features) | set(names))
-        cand.share = float(np.mean(shares)) if shares else 0.0
-        cand.raw_share = float(np.mean(raws)) if raws else 0.0
+        # an effect may act on one target only: its score is its best target, not a mean that
+        # unrelated targets dilute (the shift test's chance correction is per target)
+        cand.share = float(np.max(shares)) if shares else 0.0
+        cand.raw_share = float(np.max(raws)) if raws else 0.0
         # one effect, several targets: Bonferroni over the targets it was tested on
         cand.p_value = float(min(1.0, min(ps) * len(ps))) if ps else 1.0
         cand.significant = cand.p_value <= config.significance and cand.share >= config.min_share

@@ -116,7 +116,7 @@ def figures(ctx: Context, where: dict, candidates, shrink: list[dict], folder: P
             fig, axes = plt.subplots(1, len(cols), figsize=(3.2 * len(cols), 3.2), squeeze=False)
             for k, col in enumerate(cols):
                 ax = axes[0][k]
-                labels = ["calibrated"] + [f"+ {s['effect']}" for s in done]
+                labels = ["calibrated"] + [("re-tuned only" if s["effect"] == "control" else f"+ {s['effect']}") for s in done]
                 values = [done[0]["before"][col]] + [s["after"].get(col, math.nan) for s in done]
                 ax.bar(range(len(values)), values, color=["0.6"] + ["tab:green"] * len(done))
                 ax.set_xticks(range(len(values)), labels, rotation=30, ha="right", fontsize=7)
@@ -228,11 +228,11 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
               "Each candidate's signature (features computed from the inputs and the simulation, plus the simulated change "
               "when the effect is switched on, where the model can take it) is regressed on the residual of every target, "
               "after removing what a re-tuning of the existing parameters could absorb. *Share* is the chance-corrected "
-              "fraction explained (mean over targets); *p* comes from shifting the signature in time against the residual "
+              "fraction explained (its best target); *p* comes from shifting the signature in time against the residual "
               "(autocorrelation kept). An effect is claimed at p ≤ "
               f"{ctx.config.significance:g} and share ≥ {ctx.config.min_share:.0%} (*significant*); the significant ones "
-              f"are recalibrated with the effect added (part 3) and claimed only if the validation gap shrinks by at least "
-              f"{ctx.config.min_shrink:.0%}. The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
+              f"are recalibrated with the effect added (part 3) and claimed only if the validation gap above the noise "
+              f"floor shrinks by at least {ctx.config.min_shrink:.0%} beyond what the same re-tuning without an effect achieves. The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
     lines += ["| rank | effect | share | p | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
               "|---|---|---|---|---|---|---|---|---|"]
     rank = 0
@@ -241,7 +241,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
             continue
         rank += 1
         per = "; ".join(f"{t}: {v['share']:.0%}, {v['p_value']:.2g}" for t, v in c.per_target.items())
-        shrunk = "not recalibrated" if c.gap_shrink is None else _pct(c.gap_shrink)
+        shrunk = "not recalibrated" if c.gap_shrink is None else _pct(c.gap_shrink) + (
+            f" ({_pct(c.shrink_vs_control)} beyond re-tuning)" if c.shrink_vs_control is not None else "")
         lines.append(
             f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
             f"{'**yes**' if c.claimed else 'no'} | {c.description} |"
@@ -258,21 +259,39 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
     if not shrink:
         lines += ["No recalibration was run (no candidate could be added to the model, or the budget is 0).", ""]
     for s in shrink:
-        lines.append(f"### + {s['effect']}")
+        is_control = s["effect"] == "control"
+        lines.append("### control: re-tuned without any effect" if is_control else f"### + {s['effect']}")
         lines.append("")
         if not s.get("after"):
             lines += [f"Not recalibrated: {s.get('error', 'no result')}", ""]
             continue
-        lines.append(
-            f"Recalibrated with the original tuners (narrowed around the solution) and "
-            + ", ".join(f"{k} = {v:.4g}" for k, v in s["effect_parameters"].items())
-            + f" found; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
-        )
+        if is_control:
+            lines.append(
+                f"The same re-tuning (tuners narrowed around the solution, same budget) without an effect, so that what "
+                f"re-tuning alone gains is not credited to an effect; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
+            )
+        else:
+            lines.append(
+                f"Recalibrated with the original tuners (narrowed around the solution) and "
+                + ", ".join(f"{k} = {v:.4g}" for k, v in s["effect_parameters"].items())
+                + f" found; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
+            )
         lines += ["", "| validation metric | before | after | shrink |", "|---|---|---|---|"]
         for col, before in s["before"].items():
             after = s["after"].get(col, math.nan)
             lines.append(f"| {col} | {_fmt(before)} | {_fmt(after)} | {_pct(s['shrink'].get(col, math.nan))} |")
-        lines += ["", f"Gap shrink (weighted by where the effect's signature acts): **{s['gap_shrink']:.0%}**.", ""]
+        noise = s.get("above_noise") or {}
+        if noise:
+            lines += ["", "| target (validation) | RMSE before | RMSE after | noise floor | gap above noise: shrink |", "|---|---|---|---|---|"]
+            for t, v in noise.items():
+                lines.append(f"| {t} | {_fmt(v['rmse_before'])} | {_fmt(v['rmse_after'])} | {_fmt(v['noise'])} | {_pct(v['shrink'])} |")
+        if is_control:
+            lines += ["", f"Re-tuning alone shrinks the gap above the noise floor by {_pct(s['gap_shrink'])}.", ""]
+            continue
+        vs = s.get("gap_shrink_vs_control")
+        lines += ["", f"Gap shrink (the error above the sensor-noise floor, weighted by where the effect's signature acts): "
+                  f"**{_pct(s['gap_shrink'])}**" + (f"; beyond re-tuning alone (the control): **{_pct(vs)}**" if vs is not None else "")
+                  + ". The noise floor is estimated from sample-to-sample differences of the residual.", ""]
     if "before_after" in figs:
         lines += [f"![before and after]({figs['before_after']})", ""]
     return "\n".join(lines) + "\n"

@@ -10,7 +10,8 @@ from ..plugin_host import get_registry
 from .context import Context, DiagnoseConfig, build_context
 from .ranking import Candidate, rank_effects, tuner_sensitivities
 from .report import verdict, write
-from .shrink import recalibrate
+from ..interfaces import EffectAddition
+from .shrink import CONTROL, recalibrate
 from .where import analyse
 
 def installed_effects(names: list[str] | None = None) -> list:
@@ -27,7 +28,11 @@ def installed_effects(names: list[str] | None = None) -> list:
 def confirm_order(candidates: list[Candidate]) -> list[Candidate]:
     """Recalibrated effects first, by shrink; then the rest by their share (the screening order)."""
     tested = [c for c in candidates if c.gap_shrink is not None]
-    tested.sort(key=lambda c: -(c.gap_shrink if c.gap_shrink == c.gap_shrink else -1.0))
+    def key(c):
+        value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
+        return -(value if value == value else -1.0)
+
+    tested.sort(key=key)
     rest = [c for c in candidates if c.gap_shrink is None]
     return tested + rest
 
@@ -59,18 +64,30 @@ def diagnose(
     # only effects that pass the screening are worth a recalibration; the best shrink then
     # orders them (screening by signature, confirmation by the model itself)
     chosen = [c for c in candidates if c.significant and c.addition is not None][:budget]
+    for cand in candidates:
+        cand.confirm = budget > 0
+    control = None
+    if chosen:
+        # the control: the same re-tuning without any effect, so a shrink that re-tuning alone
+        # achieves is not credited to an effect
+        say(f"control recalibration without an effect ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
+        control = recalibrate(ctx, CONTROL, EffectAddition(switch={}, parameters=()), folder / "recalibration" / CONTROL, {})
     for cand in chosen:
         say(f"recalibrating with {cand.name} added ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
         weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
-        result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights)
+        result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control)
         if "gap_shrink" in result:
             cand.gap_shrink = float(result["gap_shrink"])
-            say(f"  validation gap shrink with {cand.name}: {result['gap_shrink']:.0%}")
+            cand.shrink_vs_control = result.get("gap_shrink_vs_control")
+            say(f"  validation gap shrink with {cand.name}: {result['gap_shrink']:.0%} "
+                f"(beyond re-tuning alone: {cand.shrink_vs_control if cand.shrink_vs_control is not None else float('nan'):.0%})")
         elif "error" in result:
             cand.gap_shrink = float("nan")
             say(f"  {cand.name}: {result['error']}")
         shrink.append(result)
     candidates = confirm_order(candidates)
+    if control is not None:
+        shrink.insert(0, control)
     t3 = time.perf_counter()
     say(verdict(candidates))
     timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}

@@ -168,7 +168,7 @@ def analyse(ctx: Context) -> dict:
         rows = {}
         for name, mask in masks.items():
             sel = mask & ok
-            if not sel.any():
+            if sel.sum() < max(3, 0.005 * ok.sum()):
                 continue
             rows[name] = {
                 "time_share": float(sel.sum() / ok.sum()),
@@ -182,7 +182,9 @@ def analyse(ctx: Context) -> dict:
     if power_ref.startswith("sim:"):
         name = power_ref[4:]
         for piece in ctx.pieces:
-            meas = running_level(np.where(np.isfinite(piece.measured[name]), piece.measured[name], np.nanmedian(piece.measured[name])))
+            # a running median keeps sensor noise from flickering the on/off state
+            raw = pd.Series(piece.measured[name]).rolling(5, center=True, min_periods=1).median()
+            meas = running_level(raw.fillna(raw.median()).to_numpy())
             sim = running_level(piece.simulated[name])
             result["cycles"][piece.kind] = {
                 "measured": cycles(meas > 0.05, piece.seconds, piece.segment),

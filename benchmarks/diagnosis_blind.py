@@ -1,0 +1,129 @@
+"""Blind benchmark of the gap diagnosis (issue 7).
+
+For every switchable effect of the heat pump models: write synthetic "measured" data with the
+effect switched on (simgap.synth), calibrate the base model without it (small NSGA-II budget),
+run `simgap diagnose` without saying what was withheld, and score:
+
+- top-1: the diagnosis claims exactly this effect first;
+- top-3: the effect is among the first three of the ranking;
+- shrink: the diagnosis's own figure, the validation error above the noise floor after
+  recalibrating with the effect (weighted over the targets the effect acts on);
+- closed: the share of the avoidable validation gap closed, (before − after) / (before − error of
+  the true model), known only because the truth is known.
+
+Null cases (nothing withheld) must claim nothing. Seeds, noise levels, strengths and seasons vary.
+
+    python benchmarks/diagnosis_blind.py                 # the full table (about 1 h on 2 cores)
+    python benchmarks/diagnosis_blind.py --quick         # one case per effect of air_source_hp
+    python benchmarks/diagnosis_blind.py --models water_to_water_hp --out /tmp/blind
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import tempfile
+import time
+from pathlib import Path
+
+from simgap import synth
+from simgap.diagnosis.blind import BlindCase, run_case
+
+
+def cases(models: list[str], quick: bool) -> list[BlindCase]:
+    out: list[BlindCase] = []
+    for model in models:
+        effects = list(synth.MODELS[model].effects)
+        for i, effect in enumerate(effects):
+            out.append(BlindCase(model, effect, seed=1 + i))
+            if not quick:
+                # a stronger or weaker variant, another seed and noise level
+                out.append(BlindCase(model, effect, strength=_variant(model, effect, i), seed=101 + i, noise_scale=2.0))
+        out.append(BlindCase(model, None, seed=7))
+        if not quick:
+            out.append(BlindCase(model, None, seed=8, noise_scale=2.0))
+    return out
+
+
+def _variant(model: str, effect: str, i: int) -> dict[str, float]:
+    """A stronger (even i) or weaker (odd i) setting of the effect's first parameter."""
+    from simgap.diagnosis.blind import VISIBLE_STRENGTH
+
+    base = dict(VISIBLE_STRENGTH.get(model, {}).get(effect, {}))
+    spec = synth.MODELS[model].effects[effect]
+    name, bound = next(iter(spec.parameters.items()))
+    if name in base:
+        return base
+    value = bound.default + (0.4 * (bound.upper - bound.default) if i % 2 == 0 else -0.4 * (bound.default - bound.lower))
+    return {**base, name: value}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--models", default="air_source_hp,water_to_water_hp")
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--only", help="comma-separated effect names (and/or 'null')")
+    parser.add_argument("--out", type=Path, help="folder for the cases (default: a temporary folder)")
+    parser.add_argument("--candidates", type=int, default=3)
+    args = parser.parse_args()
+    root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
+    todo = cases(args.models.split(","), args.quick)
+    if args.only:
+        wanted = set(args.only.split(","))
+        todo = [c for c in todo if (c.effect or "null") in wanted]
+    results = []
+    t0 = time.perf_counter()
+    for case in todo:
+        folder = root / case.label.replace(":", "_").replace("(", "_").replace(")", "").replace(",", "_").replace("=", "")
+        try:
+            r = run_case(case, folder, candidates=args.candidates)
+        except Exception as exc:  # one broken case must not lose the table
+            r = {"case": case.label, "model": case.model, "effect": case.effect, "error": f"{type(exc).__name__}: {exc}",
+                 "top1": False, "top3": False, "shrink": None, "closed": None, "claimed": [], "ranking": []}
+        results.append(r)
+        print(
+            f"{r['case']:60s} claimed={','.join(r['claimed']) or '-':28s} top1={r['top1']!s:5s} top3={r['top3']!s:5s} "
+            f"shrink={_pct(r['shrink'])} closed={_pct(r['closed'])} ranking={','.join(r['ranking'][:3])} {r.get('error', '')}",
+            flush=True,
+        )
+    (root / "blind_results.json").write_text(json.dumps(results, indent=2, default=str))
+    print()
+    print(table(results))
+    print(f"\n{len(results)} cases in {time.perf_counter() - t0:.0f} s; cases in {root}")
+
+
+def _pct(v) -> str:
+    return "   –" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{100 * v:4.0f}%"
+
+
+def table(results: list[dict]) -> str:
+    rows = ["| model | effect | cases | top-1 | top-3 | median shrink (above noise) | median gap closed | false claims |", "|---|---|---|---|---|---|---|---|"]
+    groups: dict[tuple, list] = {}
+    for r in results:
+        groups.setdefault((r["model"], r["effect"] or "null"), []).append(r)
+    for (model, effect), rs in groups.items():
+        shrink = sorted(x["shrink"] for x in rs if x.get("shrink") is not None)
+        closed = sorted(x["closed"] for x in rs if x.get("closed") is not None)
+        med = lambda xs: xs[len(xs) // 2] if xs else None  # noqa: E731
+        false_claims = sum(bool(x["claimed"]) for x in rs) if effect == "null" else "–"
+        rows.append(
+            f"| {model} | {effect} | {len(rs)} | {sum(x['top1'] for x in rs)}/{len(rs)} | {sum(x['top3'] for x in rs)}/{len(rs)} | "
+            f"{_pct(med(shrink))} | {_pct(med(closed))} | {false_claims} |"
+        )
+    effect_rows = [r for r in results if r["effect"]]
+    null_rows = [r for r in results if not r["effect"]]
+    if effect_rows:
+        rows.append(
+            f"| **all** | effects | {len(effect_rows)} | {sum(r['top1'] for r in effect_rows) / len(effect_rows):.0%} | "
+            f"{sum(r['top3'] for r in effect_rows) / len(effect_rows):.0%} | "
+            f"{_pct(sorted(r['shrink'] for r in effect_rows if r.get('shrink') is not None)[len(effect_rows) // 2] if any(r.get('shrink') is not None for r in effect_rows) else None)} | "
+            f"{_pct(sorted(r['closed'] for r in effect_rows if r.get('closed') is not None)[len([r for r in effect_rows if r.get('closed') is not None]) // 2] if any(r.get('closed') is not None for r in effect_rows) else None)} | – |"
+        )
+    if null_rows:
+        rows.append(f"| **all** | null | {len(null_rows)} | | | | | {sum(bool(r['claimed']) for r in null_rows)} |")
+    return "\n".join(rows)
+
+
+if __name__ == "__main__":
+    main()
