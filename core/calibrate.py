@@ -8,6 +8,7 @@ really asked for them), only missing ones are evaluated, and the run carries on 
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from datetime import datetime
@@ -167,13 +168,15 @@ def calibrate(
     workflow_text: str | None = None,
     run_info: dict | None = None,
     resume_dir: Path | None = None,
+    executor: DaskExecutor | None = None,
 ) -> Path:
     """Run the workflow's calibration; returns the run directory.
 
     ``run_id`` names the run folder (default: time stamp and workflow name); ``workflow_text``
     is what the folder keeps as ``workflow.yaml`` (default: the workflow file's text);
     ``run_info`` adds entries to ``run.json``. ``resume_dir`` continues that interrupted run
-    instead of starting one (see :func:`resume`).
+    instead of starting one (see :func:`resume`). An open ``executor`` is used as it is
+    (a grid runs all its cells on one cluster); otherwise the run starts and stops its own.
     """
     progress = progress or Progress()
     m = prepared.wf.model
@@ -208,11 +211,14 @@ def calibrate(
     stop_reason = "optimiser converged"
 
     execution = m.execution
-    with DaskExecutor(
-        workers=workers or execution.workers,
-        scheduler=scheduler or execution.scheduler,
-        batch_size=execution.batch_size,
-    ) as executor:
+    own_executor = executor is None
+    if own_executor:
+        executor = DaskExecutor(
+            workers=workers or execution.workers,
+            scheduler=scheduler or execution.scheduler,
+            batch_size=execution.batch_size,
+        )
+    with executor if own_executor else contextlib.nullcontext(executor):
         if replay is not None:
             progress.message(f"resuming run {run_id}: {replay.logged} evaluations logged; {executor.description}")
         else:

@@ -207,9 +207,22 @@ def run_grid(wf: LoadedWorkflow, *, workers=None, scheduler=None, output=None, p
         "cells": [{"name": c.name, "variants": c.variants, "run_dir": f"{CELLS}/{c.name}"} for c in cells],
     }
     _write_json(grid_dir / GRID_INFO, info)
-    _run_cells(grid_dir, cells, prepared, workers, scheduler, progress)
-    write_cross_table(grid_dir, wf, cells, workers=workers, scheduler=scheduler, progress=progress)
+    with _executor(wf, workers, scheduler) as executor:
+        _run_cells(grid_dir, cells, prepared, executor, progress)
+        write_cross_table(grid_dir, wf, cells, executor, progress=progress)
     return grid_dir
+
+
+def _executor(wf: LoadedWorkflow, workers, scheduler):
+    """One cluster for every cell and the scoring: workers keep their models and compiled code."""
+    from .executor import DaskExecutor
+
+    execution = wf.model.execution
+    return DaskExecutor(
+        workers=workers or execution.workers,
+        scheduler=scheduler or execution.scheduler,
+        batch_size=execution.batch_size,
+    )
 
 
 def resume_grid(grid_dir: str | Path, *, workers=None, scheduler=None, progress=None) -> Path:
@@ -223,8 +236,10 @@ def resume_grid(grid_dir: str | Path, *, workers=None, scheduler=None, progress=
     cells = expand(wf)
     if [c.name for c in cells] != [c["name"] for c in info["cells"]]:
         raise SimgapError(f"cannot resume {grid_dir}: its {WORKFLOW} no longer gives the cells listed in {GRID_INFO}")
-    _run_cells(grid_dir, cells, _prepare_cells(cells), workers, scheduler, progress)
-    write_cross_table(grid_dir, wf, cells, workers=workers, scheduler=scheduler, progress=progress)
+    prepared = _prepare_cells(cells)
+    with _executor(wf, workers, scheduler) as executor:
+        _run_cells(grid_dir, cells, prepared, executor, progress)
+        write_cross_table(grid_dir, wf, cells, executor, progress=progress)
     return grid_dir
 
 
@@ -262,7 +277,7 @@ def check_grid(wf: LoadedWorkflow) -> list[str]:
     return lines
 
 
-def _run_cells(grid_dir: Path, cells: list[Cell], prepared: dict, workers, scheduler, progress) -> None:
+def _run_cells(grid_dir: Path, cells: list[Cell], prepared: dict, executor, progress) -> None:
     from .calibrate import calibrate
 
     for i, cell in enumerate(cells, 1):
@@ -274,12 +289,11 @@ def _run_cells(grid_dir: Path, cells: list[Cell], prepared: dict, workers, sched
         if run_dir.exists():
             if not (run_dir / RUN_INFO).is_file():
                 raise SimgapError(f"{run_dir}: an unfinished cell without {RUN_INFO}; remove the folder to run the cell again")
-            calibrate(prepared[cell.name], workers=workers, scheduler=scheduler, progress=progress, resume_dir=run_dir)
+            calibrate(prepared[cell.name], executor=executor, progress=progress, resume_dir=run_dir)
         else:
             calibrate(
                 prepared[cell.name],
-                workers=workers,
-                scheduler=scheduler,
+                executor=executor,
                 output=grid_dir / CELLS,
                 progress=progress,
                 run_id=cell.name,
@@ -351,9 +365,8 @@ def _scoring_workflow(wf: LoadedWorkflow, cell: Cell, target: str, rows: list[Me
     return LoadedWorkflow(doc, model, wf.base_dir)
 
 
-def score_cells(wf: LoadedWorkflow, cells: list[Cell], grid_dir: Path, *, workers=None, scheduler=None, progress=None) -> pd.DataFrame:
+def score_cells(wf: LoadedWorkflow, cells: list[Cell], grid_dir: Path, executor, *, progress=None) -> pd.DataFrame:
     """Long table: segments, metric, cell, value, eval_id (NaN for a cell with no solution)."""
-    from .executor import DaskExecutor
     from .setup import prepare
 
     which = wf.model.grid.table.solution if wf.model.grid.table else "knee"
@@ -364,26 +377,24 @@ def score_cells(wf: LoadedWorkflow, cells: list[Cell], grid_dir: Path, *, worker
         solution = _solution(grid_dir / CELLS / cell.name, which)
         scoring.append((cell, solution, prepare(_scoring_workflow(wf, cell, target, rows)) if solution else None))
     scoring_has_validation = bool(wf.model.data.segments.validation)
-    execution = wf.model.execution
-    with DaskExecutor(workers=workers or execution.workers, scheduler=scheduler or execution.scheduler, batch_size=1) as executor:
-        for cell, solution, prepared in scoring:
-            eval_id = solution.pop("__eval_id__") if solution else None
-            for kind in ("training", "validation"):
-                setup = getattr(prepared, kind) if prepared is not None else None
-                if kind == "validation" and setup is None and (prepared is not None or not scoring_has_validation):
-                    continue
-                values = {r.key: math.nan for r in rows}
-                if setup is not None:
-                    params = {n: solution[n] for n in prepared.space.names}
-                    handle = executor.share(setup)
-                    (result,) = executor.run(setup, handle, [(int(eval_id), params)])
-                    if result["status"] == STATUS_OK:
-                        for column, value in result["errors"].items():
-                            values[column.split(".", 1)[1]] = value
-                    elif progress is not None:
-                        progress.message(f"cross table: {cell.name} failed on the {kind} segments: {result['error']}")
-                for key, value in values.items():
-                    records.append({"segments": kind, "metric": key, "cell": cell.name, "value": value, "eval_id": eval_id})
+    for cell, solution, prepared in scoring:
+        eval_id = solution.pop("__eval_id__") if solution else None
+        for kind in ("training", "validation"):
+            setup = getattr(prepared, kind) if prepared is not None else None
+            if kind == "validation" and setup is None and (prepared is not None or not scoring_has_validation):
+                continue
+            values = {r.key: math.nan for r in rows}
+            if setup is not None:
+                params = {n: solution[n] for n in prepared.space.names}
+                handle = executor.share(setup)
+                (result,) = executor.run(setup, handle, [(int(eval_id), params)])
+                if result["status"] == STATUS_OK:
+                    for column, value in result["errors"].items():
+                        values[column.split(".", 1)[1]] = value
+                elif progress is not None:
+                    progress.message(f"cross table: {cell.name} failed on the {kind} segments: {result['error']}")
+            for key, value in values.items():
+                records.append({"segments": kind, "metric": key, "cell": cell.name, "value": value, "eval_id": eval_id})
     return pd.DataFrame.from_records(records)
 
 
@@ -393,9 +404,9 @@ def _fmt(value: float) -> str:
     return f"{value:.4g}"
 
 
-def write_cross_table(grid_dir: Path, wf: LoadedWorkflow, cells: list[Cell], *, workers=None, scheduler=None, progress=None) -> pd.DataFrame:
+def write_cross_table(grid_dir: Path, wf: LoadedWorkflow, cells: list[Cell], executor, *, progress=None) -> pd.DataFrame:
     """Score every cell's solution under every row's metric; write the CSV and Markdown tables."""
-    long = score_cells(wf, cells, grid_dir, workers=workers, scheduler=scheduler, progress=progress)
+    long = score_cells(wf, cells, grid_dir, executor, progress=progress)
     order = [c.name for c in cells]
     wide = long.pivot_table(index=["segments", "metric"], columns="cell", values="value", sort=False, dropna=False)
     wide = wide.reindex(columns=order)

@@ -203,21 +203,32 @@ def _run_dtw_vs_mse(tmp_path, **changes) -> pd.DataFrame:
 
 
 def test_dtw_vs_mse_reduced(tmp_path):
-    """CI version: tiny budgets; only what holds even then (MSE prefers the smooth model at 5 min)."""
+    """CI version: tiny budgets on 1.5 days; the table's shape and the 5-min structure preferences."""
     values = _run_dtw_vs_mse(tmp_path, budget=20, population=10, training_end="45%")
+    print(values.to_string())
     assert list(values.index) == ["cvrmse", "cvrmse_1h", "dtw", "dtw_1h", "cvrmse_daily", "mbe"]
     assert list(values.columns) == [f"{m}-{r}-{s}" for m in ("mse", "dtw") for r in ("5min", "hr") for s in ("ems", "def")]
     assert np.isfinite(values.to_numpy()).all()
     assert values.loc["cvrmse", "mse-5min-def"] < values.loc["cvrmse", "mse-5min-ems"]
+    assert values.loc["dtw", "dtw-5min-ems"] < values.loc["dtw", "dtw-5min-def"]
 
 
 @pytest.mark.slow
 def test_dtw_vs_mse_reproduces_paper_b_findings(tmp_path):
+    """Paper B's Table 4 findings on synthetic data whose truth the model cannot match exactly.
+
+    Reproduced: at 5 min MSE prefers the smooth default structure and DTW the on/off one, and
+    DTW finds a far better on/off model (by DTW) than MSE does; hourly, the structures are close
+    under MSE. Not reproduced: paper B's collapse of the MSE-calibrated on/off model to "almost
+    always off" (MBE -98 %). Here the zone's heat demand fixes the energy the heat pump must
+    deliver for every parameter set in the ranges, so every cell stays within ASHRAE's 10 %.
+    """
     values = _run_dtw_vs_mse(tmp_path)
     print(values.to_string())
-    # MSE at 5 min prefers the smooth, less realistic default structure ...
     assert values.loc["cvrmse", "mse-5min-def"] < values.loc["cvrmse", "mse-5min-ems"]
-    # ... while DTW prefers the on/off structure the data came from
-    assert values.loc["dtw", "dtw-5min-ems"] < values.loc["dtw", "dtw-5min-def"]
-    # the MSE-calibrated on/off model is biased far more than the DTW-calibrated one
-    assert abs(values.loc["mbe", "mse-5min-ems"]) > 2 * abs(values.loc["mbe", "dtw-5min-ems"])
+    assert values.loc["dtw", "dtw-5min-ems"] < 0.6 * values.loc["dtw", "dtw-5min-def"]
+    assert values.loc["dtw", "dtw-5min-ems"] < 0.6 * values.loc["dtw", "mse-5min-ems"]
+    gap_5min = values.loc["cvrmse", "mse-5min-ems"] / values.loc["cvrmse", "mse-5min-def"] - 1
+    gap_hr = abs(values.loc["cvrmse_1h", "mse-hr-ems"] / values.loc["cvrmse_1h", "mse-hr-def"] - 1)
+    assert gap_hr < gap_5min / 2
+    assert (values.loc["mbe"].abs() < 0.10).all()
