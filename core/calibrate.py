@@ -283,7 +283,8 @@ def calibrate(
         featured = _featured(pareto, store)
         series = {}
         if len(pareto):
-            progress.message(f"front: {len(pareto)} solutions; scoring them on validation data")
+            scoring = "; scoring them on validation data" if prepared.validation is not None else ""
+            progress.message(f"front: {len(pareto)} solutions{scoring}")
             pareto, series = _validate(prepared, executor, pareto, featured, next_id)
         store.write_pareto(pareto)
 

@@ -35,15 +35,20 @@ from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 from pydantic import ValidationError
 from ruamel.yaml import YAML
 
-from .config import LoadedWorkflow, MetricSpec, Workflow, load_workflow, validation_error
+from .config import (
+    LoadedWorkflow,
+    MetricSpec,
+    Workflow,
+    load_workflow,
+    validation_error,
+)
 from .errors import ConfigError, SimgapError
 from .evaluation import STATUS_OK
-from .results import OBJECTIVE, PARAM, PARETO, SUMMARY, WORKFLOW, RUN_INFO
+from .results import OBJECTIVE, PARAM, PARETO, RUN_INFO, SUMMARY, WORKFLOW
 from .yamlfile import YamlDocument, format_path
 
 GRID_INFO = "grid.json"
@@ -418,8 +423,10 @@ def write_cross_table(grid_dir: Path, wf: LoadedWorkflow, cells: list[Cell], exe
     lines = [
         f"# Cross table of {wf.path.name}",
         "",
-        f"Columns: the {'knee' if which == 'knee' else 'best solution'} of each cell's calibration "
-        f"(cells named {'-'.join(axes)}); rows: the metric it is scored under, all on the same data.",
+        (
+            f"Columns: the {'knee' if which == 'knee' else 'best solution'} of each cell's calibration "
+            f"(cells named {'-'.join(axes)}); rows: the metric it is scored under, all on the same data."
+        ),
     ]
     for kind in long["segments"].unique():
         part = wide.loc[kind]

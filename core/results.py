@@ -103,7 +103,7 @@ class RunStore:
         status = table.column("status").to_pylist()
         self.failed = sum(s != "ok" for s in status)
         for col in self.error_columns:
-            values = [v for v in table.column(ERROR + col).to_pylist() if v is not None and v == v]
+            values = [v for v in table.column(ERROR + col).to_pylist() if v is not None and not math.isnan(v)]
             self.best[col] = min(values, default=math.inf)
 
     def append(self, rows: list[dict], generation: int, params_by_id: dict[int, dict[str, float]]) -> None:

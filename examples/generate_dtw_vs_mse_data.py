@@ -25,7 +25,6 @@ import json
 from pathlib import Path
 
 import pandas as pd
-
 from simgap.synth import write_dataset
 
 HERE = Path(__file__).resolve().parent

@@ -5,19 +5,25 @@ from __future__ import annotations
 import json
 import re
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
-from click.testing import CliRunner
-
 import simgap
+from click.testing import CliRunner
 from simgap.cli import main
 from simgap.config import load_workflow
 from simgap.errors import ConfigError
-from simgap.grid import CROSS_TABLE_CSV, CROSS_TABLE_MD, expand, parse_key_path, resume_grid, run_grid, set_at
+from simgap.grid import (
+    CROSS_TABLE_CSV,
+    CROSS_TABLE_MD,
+    expand,
+    parse_key_path,
+    run_grid,
+    set_at,
+)
 from simgap.plugin_host import get_registry
+
 from tests.conftest import REPO, absolutise
 
 DTW_VS_MSE = REPO / "workflows" / "dtw_vs_mse.yaml"

@@ -15,8 +15,8 @@ import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 from click.testing import CliRunner
-
 from simgap.cli import main
+
 from tests.conftest import QUICKSTART, set_budget
 
 EVALUATIONS, POPULATION = 300, 20
