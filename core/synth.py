@@ -50,6 +50,7 @@ offsets are constant; lost samples are whole rows dropped in random gaps.
 from __future__ import annotations
 
 import ctypes
+import itertools
 import json
 import math
 from dataclasses import asdict, dataclass, field
@@ -382,6 +383,30 @@ def resolve_parameters(model: str, parameters: Mapping[str, float] | None = None
     return values
 
 
+# fmpy's logging proxy keeps a raw pointer to the last logger registered with it, for the whole
+# process: the callback must outlive every instance, so there is one, and messages reach the
+# right instance's list through the componentEnvironment key.
+_logs: dict[int, list[str]] = {}
+_log_keys = itertools.count(1)
+_native_logger = None
+
+
+def _process_logger(callback_type):
+    global _native_logger
+    if _native_logger is None:
+        _native_logger = callback_type(_dispatch_log)
+    return _native_logger
+
+
+def _dispatch_log(env, instance, status, category, message) -> None:
+    try:  # never let an exception cross back into C
+        target = _logs.get(env or 0)
+        if target is not None:
+            target.append(message.decode("utf-8", "replace") if message else "")
+    except Exception:
+        pass
+
+
 class _Stepper:
     """One FMU instance driven step by step with value references (for closed-loop benches)."""
 
@@ -412,16 +437,11 @@ class _Stepper:
         # keep the FMU's own messages, so a rejected parameter value is reported in its words
         # instead of fmpy printing them and raising a bare status error
         self.messages: list[str] = []
-
-        def keep(env, instance, status, category, message):
-            try:
-                self.messages.append(message.decode("utf-8", "replace") if message else "")
-            except Exception:  # never let an exception cross back into C
-                pass
-
-        self._logger = fmi2CallbackLoggerTYPE(keep)
+        self._log_key = next(_log_keys)
+        _logs[self._log_key] = self.messages
         self._callbacks = fmi2CallbackFunctions()
-        self._callbacks.logger = self._logger
+        self._callbacks.logger = _process_logger(fmi2CallbackLoggerTYPE)
+        self._callbacks.componentEnvironment = self._log_key
         self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         addLoggerProxy(ctypes.byref(self._callbacks))
@@ -457,6 +477,7 @@ class _Stepper:
             self.slave.terminate()
             self.slave.freeInstance()
         finally:
+            _logs.pop(self._log_key, None)
             shutil.rmtree(self.unzip_dir, ignore_errors=True)
 
 
