@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Annotated, Any
 
 import pandas as pd
@@ -14,6 +15,8 @@ def parse_duration(value: Any) -> pd.Timedelta:
         raise ValueError("expected a duration such as 600, '10min' or '1h'")
     if isinstance(value, (int, float)):
         td = pd.Timedelta(seconds=float(value))
+    elif re.fullmatch(r"\s*\d+(\.\d+)?\s*d\s*", str(value)):  # '1d': pandas now warns on lower-case d
+        td = pd.Timedelta(days=float(str(value).strip()[:-1]))
     else:
         try:
             td = pd.Timedelta(str(value))

@@ -103,13 +103,16 @@ class EvaluationSetup:
 
 
 def objective_vector(setup: EvaluationSetup, errors: dict[str, float] | None) -> list[float]:
-    """Objectives to minimise: each objective metric's value, negated for scores like R²."""
+    """Objectives to minimise: each objective metric's value, negated for scores like R², the
+    magnitude for signed ones such as a bias."""
     out = []
     for column, slot in zip(setup.columns, setup.slots):
         if not slot.objective:
             continue
         if errors is None:
             out.append(math.inf)
+        elif getattr(slot.metric, "signed", False):  # a bias: best at zero, either side
+            out.append(abs(errors[column]))
         else:
             out.append(errors[column] if slot.metric.minimise else -errors[column])
     return out

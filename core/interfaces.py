@@ -144,6 +144,10 @@ class Metric(ABC):
     """False for a goodness-of-fit score (R²): simgap then minimises its negative."""
     unit: ClassVar[str] = ""
     """Unit of the result: ``""`` for dimensionless, ``"target"`` for the target's unit."""
+    signed: bool = False
+    """True for a signed error such as a bias (MBE): logged with its sign, minimised as |value|."""
+    multi_column: ClassVar[bool] = False
+    """True if the metric scores (n, d) arrays, i.e. targets naming several series at once."""
 
     def __init__(self, options: PluginOptions | None = None):
         self.options = options if options is not None else self.Options()
@@ -315,4 +319,9 @@ class Effect(ABC):
 
     def addition(self, data: DiagnosisData) -> EffectAddition | None:
         """How to add the effect to this model (switch and tuners), or None if it cannot be."""
+        return None
+
+    def acts_on(self, data: DiagnosisData) -> list[str] | None:
+        """Targets the declared signature is about (None: all). A sensor lag is about
+        temperatures: its features are not tested against the electric power's residual."""
         return None

@@ -78,6 +78,15 @@ def plot_convergence(path: Path, frame: pd.DataFrame, objectives: list[str]) -> 
     plt.close(fig)
 
 
+MAX_POINTS = 20_000  # beyond this a line plot shows nothing more and takes seconds to draw
+
+
+def _thin(*arrays):
+    """Every k-th sample so at most MAX_POINTS remain (a 1 s day is 86,400 points)."""
+    k = max(1, len(arrays[0]) // MAX_POINTS)
+    return [a[::k] if a is not None else None for a in arrays]
+
+
 def plot_series(path: Path, label: str, eval_id: int, series: dict) -> None:
     """Measured vs simulated per target, training and validation side by side."""
     kinds = [k for k in ("training", "validation") if k in series and eval_id in series[k]["series"]]
@@ -90,9 +99,9 @@ def plot_series(path: Path, label: str, eval_id: int, series: dict) -> None:
         simulated = series[kind]["series"][eval_id] or {}
         for row, target in enumerate(setup.targets):
             ax = axes[row][col]
-            t = pd.to_datetime(target.time)
             sim = simulated.get(target.name)
             meas = target.measured if target.measured.ndim == 1 else target.measured[:, 0]
+            t, meas, sim = _thin(pd.to_datetime(target.time), meas, sim)
             ax.plot(t, meas, ".", ms=2, color="0.3", label="measured")
             if sim is not None:
                 ax.plot(t, sim if sim.ndim == 1 else sim[:, 0], color="C0", lw=1, label="simulated")

@@ -79,6 +79,31 @@ class Resample(_Step):
         return frame.resample(pd.Timedelta(seconds=_seconds(self.period))).mean()
 
 
+class Shift(_Step):
+    """Move every timestamp by ``by`` (negative: earlier). For a logger that stamps an interval
+    mean at the interval's start while the model reports the state at the end (``by`` = the
+    interval), or for a known sensor or clock delay."""
+
+    step: Literal["shift"]
+    by: str | float
+
+    @model_validator(mode="after")
+    def _duration(self):
+        text = str(self.by).strip()
+        parse_duration(text[1:] if text.startswith("-") else text)
+        return self
+
+    def columns_read(self):
+        return []
+
+    def apply(self, frame):
+        text = str(self.by).strip()
+        negative = text.startswith("-")
+        delta = parse_duration(text[1:] if negative else text)
+        frame.index = frame.index + (-delta if negative else delta)
+        return frame
+
+
 def _threshold(value: float | str, series: pd.Series) -> float:
     if isinstance(value, str):
         return float(value.strip().rstrip("%")) / 100.0 * float(series.max())
@@ -195,6 +220,6 @@ class Derive(_Step):
 
 
 PreprocessStep = Annotated[
-    Union[LowPass, MovingAverage, Resample, OnOff, DailyNormalise, Convert, Derive],
+    Union[LowPass, MovingAverage, Resample, Shift, OnOff, DailyNormalise, Convert, Derive],
     Field(discriminator="step"),
 ]

@@ -142,7 +142,7 @@ def _cases(wf: LoadedWorkflow, data: MeasuredData, segs: list[Segment], token: s
     frame, ref = data.frame, data.reference_time
     m = wf.model
     outputs = tuple(dict.fromkeys(v for t in m.targets for v in t.simulated_variables))
-    input_cols = list(m.simulator.inputs.values())
+    input_cols = list(dict.fromkeys(m.simulator.inputs.values()))  # one column may feed several inputs
     cases, rows, initial = [], [], []
     for seg in segs:
         sim_rows = frame.loc[seg.sim_start : seg.end]
@@ -186,11 +186,20 @@ def targets_and_slots(wf: LoadedWorkflow, registry: Registry, scored: pd.DataFra
         for j, spec in enumerate(t.metrics):
             key = ("targets", i, "metrics", j)
             cls = _lookup(wf, registry, "metric", spec.name, key + ("name",))
+            if len(cols) > 1 and not getattr(cls, "multi_column", False):
+                raise wf.error(key + ("name",), f"metric {spec.name!r} scores one series; target {t.name!r} has {len(cols)} (use a multi-column metric such as dtw)")
             metric = cls(plugin_options(wf, cls, spec.options, key))
             bins = None
             if spec.resolution is not None:
                 bins = Bins.of(time, int(parse_duration(spec.resolution).value))
-            slots.append(MetricSlot(target=i, key=spec.key, metric=metric, objective=spec.objective, bins=bins))
+            slot = MetricSlot(target=i, key=spec.key, metric=metric, objective=spec.objective, bins=bins)
+            # what fails on the measured data alone (no samples left, a zero mean, too few
+            # periods) would fail every evaluation: say it once, here, at the metric's line
+            try:
+                slot.score(target, target.measured)
+            except ValueError as exc:
+                raise wf.error(key, f"{spec.name} on {t.name}: {exc}") from None
+            slots.append(slot)
     return targets, slots
 
 

@@ -126,3 +126,16 @@ def test_yaml_shapes(tmp_path, bad):
     path = tmp_path / "bad.yaml"
     path.write_text(bad)
     assert_one_line_error(check(path), "bad.yaml")
+
+
+def test_metric_that_cannot_score_the_measured_data_fails_once_at_its_line(quickstart_text, write_workflow):
+    # every measured P_el sample masked out of a short window: nothing left to score
+    text = quickstart_text.replace('training: {start: "0%", end: "66.7%"}', 'training: {start: "2025-01-13 00:00", end: "2025-01-13 00:30"}')
+    text = text.replace("metrics: [cvrmse]", "metrics: [r2]")
+    msg = assert_one_line_error(check(write_workflow(text)), "targets[1].metrics[0]", "r2 on P_el")
+    assert "workflow.yaml:" in msg
+
+
+def test_several_series_need_a_multi_column_metric(quickstart_text, write_workflow):
+    text = quickstart_text.replace("    measured: T_zone\n    simulated: T_zone\n", "    measured: [T_zone, P_el]\n    simulated: [T_zone, P_el]\n")
+    assert_one_line_error(check(write_workflow(text)), "targets[0].metrics[0].name", "scores one series")

@@ -93,3 +93,13 @@ def test_workflow_applies_steps_in_order_and_points_at_a_bad_one(quickstart_text
     result = CliRunner().invoke(main, ["check", str(write_workflow(bad))])
     assert result.exit_code == 2
     assert "data.preprocess[1]" in result.output and "'P_elec' not in the data" in result.output
+
+
+def test_shift_moves_timestamps_either_way():
+    f = frame({"x": [1, 2, 3]})
+    later = STEP.validate_python({"step": "shift", "by": "1min"}).apply(f.copy())
+    earlier = STEP.validate_python({"step": "shift", "by": "-30s"}).apply(f.copy())
+    assert later.index[0] == pd.Timestamp("2024-01-01 00:01")
+    assert earlier.index[0] == pd.Timestamp("2023-12-31 23:59:30")
+    with pytest.raises(ValidationError, match="duration"):
+        STEP.validate_python({"step": "shift", "by": "later"})
