@@ -84,7 +84,7 @@ def main() -> None:
         results.append(r)
         print(
             f"{r['case']:60s} claimed={','.join(r['claimed']) or '-':28s} top1={r['top1']!s:5s} top3={r['top3']!s:5s} "
-            f"shrink={_pct(r['shrink'])} closed={_pct(r['closed'])} ranking={','.join(r['ranking'][:3])} {r.get('error', '')}",
+            f"shrink={_pct(r['shrink'])} beyond={_pct(r.get('beyond_control'))} closed={_pct(r['closed'])} ranking={','.join(r['ranking'][:3])} {r.get('error', '')}",
             flush=True,
         )
     (root / "blind_results.json").write_text(json.dumps(results, indent=2, default=str))
@@ -97,31 +97,36 @@ def _pct(v) -> str:
     return "   –" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{100 * v:4.0f}%"
 
 
+def _median(values):
+    values = sorted(v for v in values if v is not None and math.isfinite(v))
+    return values[len(values) // 2] if values else None
+
+
 def table(results: list[dict]) -> str:
-    rows = ["| model | effect | cases | top-1 | top-3 | median shrink (above noise) | median gap closed | false claims |", "|---|---|---|---|---|---|---|---|"]
+    rows = [
+        "| model | effect | cases | top-1 | top-3 | median shrink above noise | median beyond re-tuning | median gap closed | false claims |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     groups: dict[tuple, list] = {}
     for r in results:
         groups.setdefault((r["model"], r["effect"] or "null"), []).append(r)
     for (model, effect), rs in groups.items():
-        shrink = sorted(x["shrink"] for x in rs if x.get("shrink") is not None)
-        closed = sorted(x["closed"] for x in rs if x.get("closed") is not None)
-        med = lambda xs: xs[len(xs) // 2] if xs else None  # noqa: E731
         false_claims = sum(bool(x["claimed"]) for x in rs) if effect == "null" else "–"
         rows.append(
             f"| {model} | {effect} | {len(rs)} | {sum(x['top1'] for x in rs)}/{len(rs)} | {sum(x['top3'] for x in rs)}/{len(rs)} | "
-            f"{_pct(med(shrink))} | {_pct(med(closed))} | {false_claims} |"
+            f"{_pct(_median(x.get('shrink') for x in rs))} | {_pct(_median(x.get('beyond_control') for x in rs))} | "
+            f"{_pct(_median(x.get('closed') for x in rs))} | {false_claims} |"
         )
-    effect_rows = [r for r in results if r["effect"]]
-    null_rows = [r for r in results if not r["effect"]]
-    if effect_rows:
+    effects = [r for r in results if r["effect"]]
+    nulls = [r for r in results if not r["effect"]]
+    if effects:
         rows.append(
-            f"| **all** | effects | {len(effect_rows)} | {sum(r['top1'] for r in effect_rows) / len(effect_rows):.0%} | "
-            f"{sum(r['top3'] for r in effect_rows) / len(effect_rows):.0%} | "
-            f"{_pct(sorted(r['shrink'] for r in effect_rows if r.get('shrink') is not None)[len(effect_rows) // 2] if any(r.get('shrink') is not None for r in effect_rows) else None)} | "
-            f"{_pct(sorted(r['closed'] for r in effect_rows if r.get('closed') is not None)[len([r for r in effect_rows if r.get('closed') is not None]) // 2] if any(r.get('closed') is not None for r in effect_rows) else None)} | – |"
+            f"| **all** | **effects** | {len(effects)} | **{sum(r['top1'] for r in effects) / len(effects):.0%}** | "
+            f"**{sum(r['top3'] for r in effects) / len(effects):.0%}** | {_pct(_median(r.get('shrink') for r in effects))} | "
+            f"{_pct(_median(r.get('beyond_control') for r in effects))} | {_pct(_median(r.get('closed') for r in effects))} | – |"
         )
-    if null_rows:
-        rows.append(f"| **all** | null | {len(null_rows)} | | | | | {sum(bool(r['claimed']) for r in null_rows)} |")
+    if nulls:
+        rows.append(f"| **all** | **null** | {len(nulls)} | | | | | | **{sum(bool(r['claimed']) for r in nulls)}** |")
     return "\n".join(rows)
 
 

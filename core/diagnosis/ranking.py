@@ -57,9 +57,9 @@ class Candidate:
         if not self.significant:
             return False
         if self.gap_shrink is None:
-            # not recalibrated: the signature is all the evidence where the effect cannot be added
-            # or no recalibration was asked for; otherwise it was outranked within the budget
-            return self.addition is None or not self.confirm
+            # not recalibrated: claimed on its signature only when no recalibration was asked
+            # for; an effect this model cannot take stays "possible, not confirmed"
+            return not self.confirm
         confirming = self.shrink_vs_control if self.shrink_vs_control is not None else self.gap_shrink
         return confirming >= self.min_shrink
 
@@ -242,8 +242,11 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         addition = effect.addition(data)
         cand.addition = addition
         responses = effect_responses(ctx, addition) if addition is not None else []
+        about = effect.acts_on(data)
         shares, raws, ps = [], [], []
         for t, (mask, N, rt) in prepared_targets.items():
+            if not responses and about is not None and t not in about:
+                continue
             # the simulated change is the sharper signature; the declared features stand in
             # where the model cannot take the effect
             cols = {} if responses else dict(features)

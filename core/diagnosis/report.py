@@ -243,6 +243,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         per = "; ".join(f"{t}: {v['share']:.0%}, {v['p_value']:.2g}" for t, v in c.per_target.items())
         shrunk = "not recalibrated" if c.gap_shrink is None else _pct(c.gap_shrink) + (
             f" ({_pct(c.shrink_vs_control)} beyond re-tuning)" if c.shrink_vs_control is not None else "")
+        if c.gap_shrink is None and c.addition is None and c.significant and c.confirm:
+            shrunk = "cannot be added to this model: possible, not confirmed"
         lines.append(
             f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
             f"{'**yes**' if c.claimed else 'no'} | {c.description} |"
@@ -288,6 +290,10 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         if is_control:
             lines += ["", f"Re-tuning alone shrinks the gap above the noise floor by {_pct(s['gap_shrink'])}.", ""]
             continue
+        if s.get("confirmed_on") == "training":
+            lines += ["", f"The validation data hold almost none of what this effect changes, so it is confirmed on the training "
+                      f"data: gap shrink there {_pct(s.get('gap_shrink_training'))}, beyond re-tuning alone "
+                      f"{_pct(s.get('gap_shrink_vs_control_training'))}."]
         vs = s.get("gap_shrink_vs_control")
         lines += ["", f"Gap shrink (the error above the sensor-noise floor, weighted by where the effect's signature acts): "
                   f"**{_pct(s['gap_shrink'])}**" + (f"; beyond re-tuning alone (the control): **{_pct(vs)}**" if vs is not None else "")

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import time
+
+import numpy as np
 from pathlib import Path
 
 from ..errors import PluginError
@@ -23,6 +25,18 @@ def installed_effects(names: list[str] | None = None) -> list:
     if unknown:
         raise PluginError(f"unknown effect {unknown[0]!r}; installed effects: {', '.join(available) or 'none'}")
     return [registry.get("effect", n)() for n in names]
+
+
+def acts_mostly_in_training(ctx, cand, ratio: float = 0.2) -> bool:
+    """True if the effect's fitted signature is far weaker in validation than in training."""
+    kinds = np.concatenate([np.full(len(p.seconds), p.kind) for p in ctx.pieces])
+    if not (kinds == "validation").any():
+        return False
+    strength = {}
+    for kind in ("training", "validation"):
+        values = [np.nanstd(f[kinds == kind]) for f in cand.fitted.values() if np.isfinite(f[kinds == kind]).any()]
+        strength[kind] = max(values) if values else 0.0
+    return strength["validation"] < ratio * strength["training"]
 
 
 def confirm_order(candidates: list[Candidate]) -> list[Candidate]:
@@ -79,6 +93,14 @@ def diagnose(
         if "gap_shrink" in result:
             cand.gap_shrink = float(result["gap_shrink"])
             cand.shrink_vs_control = result.get("gap_shrink_vs_control")
+            if acts_mostly_in_training(ctx, cand):
+                # the validation data hold (almost) none of what the effect changes (no start in
+                # them, no cold spell...): only the training data can confirm it
+                result["confirmed_on"] = "training"
+                cand.gap_shrink = result.get("gap_shrink_training", cand.gap_shrink)
+                cand.shrink_vs_control = result.get("gap_shrink_vs_control_training", cand.shrink_vs_control)
+            else:
+                result["confirmed_on"] = "validation"
             say(f"  validation gap shrink with {cand.name}: {result['gap_shrink']:.0%} "
                 f"(beyond re-tuning alone: {cand.shrink_vs_control if cand.shrink_vs_control is not None else float('nan'):.0%})")
         elif "error" in result:

@@ -152,20 +152,29 @@ def recalibrate(ctx: Context, effect: str, addition: EffectAddition, folder: Pat
     out["parameters"] = {c[len(PARAM) :]: float(pick[c]) for c in pareto.columns if c.startswith(PARAM)}
     out["shrink"] = {c: (1.0 - after[c] / before[c]) if before.get(c) and math.isfinite(after.get(c, math.nan)) else math.nan for c in after}
     out["above_noise"] = _above_noise(ctx, prepared, out["parameters"])
+    out["above_noise_training"] = _above_noise(ctx, prepared, out["parameters"], "training")
     out["gap_shrink"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise"].items()}, weights)
+    out["gap_shrink_training"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise_training"].items()}, weights)
     if control and control.get("above_noise"):
-        vs = {}
-        for t, v in out["above_noise"].items():
-            c = control["above_noise"].get(t)
+        out["shrink_vs_control"], out["gap_shrink_vs_control"] = _versus(out["above_noise"], control["above_noise"], weights)
+        out["shrink_vs_control_training"], out["gap_shrink_vs_control_training"] = _versus(
+            out["above_noise_training"], control.get("above_noise_training", {}), weights
+        )
+    return out
+
+
+def _versus(mine: dict, control: dict, weights: dict) -> tuple[dict, float]:
+    vs = {}
+    if True:
+        for t, v in mine.items():
+            c = control.get(t)
             if not c:
                 continue
             sigma = min(v["noise"], c["noise"])
             gap_c = math.sqrt(max(c["rmse_after"] ** 2 - sigma**2, 0.0))
             gap_a = math.sqrt(max(v["rmse_after"] ** 2 - sigma**2, 0.0))
             vs[t] = 1.0 - gap_a / gap_c if gap_c > 0 else math.nan
-        out["shrink_vs_control"] = vs
-        out["gap_shrink_vs_control"] = gap_shrink(vs, weights)
-    return out
+    return vs, gap_shrink(vs, weights)
 
 
 def noise_sigma(residual: np.ndarray) -> float:
@@ -175,12 +184,12 @@ def noise_sigma(residual: np.ndarray) -> float:
     return float(np.sqrt(np.median(d * d) / (2 * 0.4549))) if d.size else 0.0  # median of chi2(1) = 0.4549
 
 
-def _above_noise(ctx: Context, prepared, params: dict[str, float]) -> dict[str, dict]:
-    """Per target on validation: RMSE before and after, the noise floor, and the shrink of the
-    part of the error above that floor (the gap a model can close at all)."""
+def _above_noise(ctx: Context, prepared, params: dict[str, float], kind: str = "validation") -> dict[str, dict]:
+    """Per target on validation (or training): RMSE before and after, the noise floor, and the
+    shrink of the part of the error above that floor (the gap a model can close at all)."""
     from .context import simulate
 
-    piece = next((p for p in ctx.pieces if p.kind == "validation"), ctx.pieces[-1])
+    piece = next((p for p in ctx.pieces if p.kind == kind), ctx.pieces[-1])
     setup = prepared.validation if piece.kind == "validation" and prepared.validation is not None else prepared.training
     after_series = simulate(setup, params)
     out = {}

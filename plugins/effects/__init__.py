@@ -89,6 +89,12 @@ class StartUpInertia(StartUpLag):
     switch = "useInertia"
     tuners = (P("refIneFreConst", 0.0132, 0.002, 0.1, "Hz", "log"),)
 
+    def applies(self, data):
+        # the same physics as start_up_lag: tested separately only where the model has this filter
+        if self.switch not in data.variables:
+            return f"the model has no '{self.switch}' switch (start_up_lag tests the same signature)"
+        return super().applies(data)
+
 
 class PostRun(_SwitchEffect):
     name = "post_run"
@@ -104,6 +110,10 @@ class PostRun(_SwitchEffect):
         return {f"after stop, tau {tau:g} s": off * np.exp(-since / tau) for tau in (120.0, 600.0, 1800.0)}
 
 
+def _temperatures(self, data):
+    return data.temperature_targets
+
+
 class SensorLag(_SwitchEffect):
     name = "sensor_lag"
     description = "the temperature sensor reads through a first-order lag (sensor mass, immersion sleeve)"
@@ -112,6 +122,7 @@ class SensorLag(_SwitchEffect):
     tuners = (P("tauSensor", 60.0, 5.0, 3600.0, "s", "log"),)
     needs = ()
     needs_temperature = True
+    acts_on = _temperatures
 
     def signature(self, data):
         out = {}
@@ -147,6 +158,7 @@ class HeatLoss(_SwitchEffect):
     )
     needs = ()
     needs_temperature = True
+    acts_on = _temperatures
 
     def signature(self, data):
         out = {}
