@@ -145,7 +145,11 @@ def resume(
     progress: Progress | None = None,
     on_generation: Callable[[int], None] | None = None,
 ) -> Path:
-    """Continue the interrupted run in ``run_dir`` with the workflow copy it holds."""
+    """Continue the interrupted run in ``run_dir`` with the workflow copy it holds.
+
+    A wall-time budget counts from the resume (the time before the interruption is not known
+    for certain); evaluation and generation budgets count the logged evaluations too.
+    """
     run_dir = Path(run_dir).resolve()
     info = read_run_info(run_dir)
     if (run_dir / SUMMARY).is_file():
