@@ -21,7 +21,7 @@ class PymooAskTell(simgap.Optimiser):
         from pymoo.core.problem import Problem
 
         self._pymoo_problem = Problem(
-            n_var=problem.n_var, n_obj=problem.n_obj, n_ieq_constr=1, xl=0.0, xu=1.0
+            n_var=problem.n_var, n_obj=self.pymoo_n_obj, n_ieq_constr=1, xl=0.0, xu=1.0
         )
         self._algorithm = self.make_algorithm()
         termination = ("n_evals", max_evaluations) if max_evaluations else None
@@ -33,6 +33,15 @@ class PymooAskTell(simgap.Optimiser):
     @abstractmethod
     def make_algorithm(self):
         """Return an un-set-up pymoo algorithm."""
+
+    @property
+    def pymoo_n_obj(self) -> int:
+        """How many objectives the pymoo algorithm sees (a scalarising subclass says 1)."""
+        return self.problem.n_obj
+
+    def pymoo_objectives(self, F: np.ndarray) -> np.ndarray:
+        """simgap's objective vectors as the pymoo algorithm sees them (failures already finite)."""
+        return F
 
     def initial_sampling(self, size: int) -> np.ndarray:
         """Latin hypercube in the unit cube; the workflow's start point, if any, is the first row."""
@@ -51,7 +60,7 @@ class PymooAskTell(simgap.Optimiser):
     def tell(self, X, F, feasible) -> None:
         from pymoo.problems.static import StaticProblem
 
-        F = np.where(np.isfinite(F), F, FAILED_OBJECTIVE)
+        F = self.pymoo_objectives(np.where(np.isfinite(F), F, FAILED_OBJECTIVE))
         G = np.where(np.asarray(feasible, dtype=bool), 0.0, 1.0)[:, None]
         # algorithm.evaluator (not a fresh Evaluator) so pymoo counts evaluations for termination
         self._algorithm.evaluator.eval(StaticProblem(self._pymoo_problem, F=F, G=G), self._pending)
