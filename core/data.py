@@ -153,7 +153,11 @@ def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]
         inside = (index >= start) & (index <= end)
         if inside.sum() < 2:
             raise wf.error(key, f"{start} .. {end} holds fewer than two measured samples")
-        out.append(Segment(f"{kind}-{i}", start, end, max(index[0], start - warmup)))
+        # bounds snap to measured samples, so a simulation's step grid falls on the data's
+        # (a share such as '66.7%' rarely lands on a sample)
+        first, last = index[inside][0], index[inside][-1]
+        sim_start = index[index.searchsorted(first - warmup)]
+        out.append(Segment(f"{kind}-{i}", first, last, sim_start))
     return out
 
 
