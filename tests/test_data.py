@@ -112,8 +112,7 @@ def test_unit_table():
 def test_segment_bounds_snap_to_measured_samples(tmp_path):
     """A share like 55% lands between samples; a simulation grid started there would be offset
     from the data's and smear every switch, so bounds snap to the samples inside the range."""
-    wf = workflow(tmp_path, table(13), training="{start: 0, end: '55%'}", validation="{start: '55%', end: '100%'}",
-                  extra="segments_placeholder: null".replace("segments_placeholder: null", ""))
+    wf = workflow(tmp_path, table(13), training="{start: 0, end: '55%'}", validation="{start: '55%', end: '100%'}")
     data = load_measured(wf)
     train, valid = segments(wf, data, "training")[0], segments(wf, data, "validation")[0]
     assert train.end in data.frame.index and valid.start in data.frame.index
