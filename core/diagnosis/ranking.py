@@ -112,6 +112,35 @@ def _independent(X: np.ndarray, tol: float = 1e-6) -> np.ndarray:
     return X[:, keep]
 
 
+def explained_by_lag(r: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Share of ``r`` explained by ``X`` shifted circularly by every lag, and the fit at lag 0."""
+    n = len(r)
+    ss = float(r @ r)
+    if X.shape[1] == 0 or ss <= 0:
+        return np.zeros(n), np.zeros(n)
+    X = _independent(X)
+    gram_inv = np.linalg.pinv(X.T @ X)
+    c = np.fft.irfft(np.conj(np.fft.rfft(X, axis=0)) * np.fft.rfft(r)[:, None], n=n, axis=0)
+    return np.einsum("kj,jl,kl->k", c, gram_inv, c) / ss, X @ (gram_inv @ (X.T @ r))
+
+
+def max_shift_test(r: np.ndarray, designs: list[np.ndarray], exclusion: float = 0.1):
+    """The best of several designs (one per effect setting), tested with the max statistic:
+    at every lag the best design counts, so trying several settings is paid for."""
+    n = len(r)
+    curves, fits = zip(*(explained_by_lag(r, X) for X in designs)) if designs else ((np.zeros(n),), (np.zeros(n),))
+    curves = np.vstack(curves)
+    best = int(np.argmax(curves[:, 0]))
+    combined = curves.max(axis=0)
+    lags = np.arange(n)
+    null = combined[(lags > exclusion * n) & (lags < (1 - exclusion) * n)]
+    observed = float(combined[0])
+    if null.size == 0:
+        return observed, 0.0, 1.0, fits[best], best
+    p = (1.0 + float(np.sum(null >= observed))) / (1.0 + null.size)
+    return observed, float(np.median(null)), p, fits[best], best
+
+
 def shift_test(r: np.ndarray, X: np.ndarray, exclusion: float = 0.1) -> tuple[float, float, float, np.ndarray]:
     """(observed share, median share over shifts, p-value, fitted) of ``r`` regressed on ``X``."""
     n = len(r)
@@ -173,26 +202,31 @@ def _simulate_all(ctx: Context, params: dict[str, float]) -> dict[str, np.ndarra
     return {t: np.concatenate([p[t] for p in parts]) for t in ctx.targets}
 
 
+def effect_settings(addition: EffectAddition, per_parameter: int = 3) -> list[dict[str, float]]:
+    """Typical values, then each of the first three parameters at 20 % and 80 % of its range
+    (in its own scale) with the others typical: a threshold or a time constant far from its
+    typical value still shows in one of them."""
+    typical = {p.name: p.default for p in addition.parameters}
+    settings = [typical]
+    for p in addition.parameters[:per_parameter]:
+        for q in (0.2, 0.8):
+            if p.scale == "log" and p.lower > 0:
+                value = math.exp(math.log(p.lower) + q * (math.log(p.upper) - math.log(p.lower)))
+            else:
+                value = p.lower + q * (p.upper - p.lower)
+            settings.append({**typical, p.name: value})
+    return settings
+
+
 def effect_responses(ctx: Context, addition: EffectAddition) -> list[dict[str, np.ndarray]]:
-    """Simulated change of every target with the effect switched on, at a typical and a strong setting."""
+    """Simulated change of every target with the effect switched on, per setting."""
     base = ctx.joined("simulated")
-    settings = [{p.name: p.default for p in addition.parameters}, {p.name: _stronger(p) for p in addition.parameters}]
     out = []
-    for values in settings:
+    for values in effect_settings(addition):
         series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values})
         if series is not None:
             out.append({t: series[t] - base[t] for t in ctx.targets})
     return out
-
-
-def _stronger(p) -> float:
-    """Halfway from the typical value to the farther bound (in the parameter's own scale)."""
-    if p.scale == "log" and p.lower > 0:
-        lo, hi, d = math.log(p.lower), math.log(p.upper), math.log(max(p.default, p.lower))
-        far = hi if hi - d >= d - lo else lo
-        return math.exp(d + 0.5 * (far - d))
-    far = p.upper if p.upper - p.default >= p.default - p.lower else p.lower
-    return p.default + 0.5 * (far - p.default)
 
 
 def switching_instants(data) -> dict[str, np.ndarray]:
@@ -249,12 +283,17 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
                 continue
             # the simulated change is the sharper signature; the declared features stand in
             # where the model cannot take the effect
-            cols = {} if responses else dict(features)
-            for k, resp in enumerate(responses):
-                cols[f"simulated change of {t} with the effect on ({'typical' if k == 0 else 'strong'})"] = resp[t]
-            names, X = _standardise(cols, mask)
-            X = _clear(X, N)
-            observed, chance, p, fitted = shift_test(rt, X)
+            if responses:
+                # one design per setting: the simulated change of this target with the effect on
+                designs, names = [], []
+                for k, resp in enumerate(responses):
+                    n_k, X = _standardise({f"simulated change of {t} with the effect on (setting {k})": resp[t]}, mask)
+                    designs.append(_clear(X, N))
+                    names += n_k
+                observed, chance, p, fitted, _ = max_shift_test(rt, designs)
+            else:
+                names, X = _standardise(dict(features), mask)
+                observed, chance, p, fitted = shift_test(rt, _clear(X, N))
             full = np.full(len(mask), np.nan)
             full[mask] = fitted
             cand.fitted[t] = full
