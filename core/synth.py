@@ -617,7 +617,7 @@ def simulate_truth(
     ``air_source_hp``, 2 days for ``water_to_water_hp``) repeats the first day's start and is
     cut off, so the record starts in a settled state.
     """
-    spec = _spec(model)
+    _spec(model)  # an unknown model name stops here, with the known ones listed
     start_values = resolve_parameters(model, parameters, effects)
     fmu = build_model(model, cache_dir)
     if model == "brine_water_hp":
