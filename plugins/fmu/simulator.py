@@ -43,6 +43,11 @@ class FMUOptions(simgap.PluginOptions):
     """Fixed values for variables that are not tuned (set before initialisation)."""
     time_offset: float = 0.0
     """Seconds added to the case's time to get the model's time (e.g. seconds since 1 January)."""
+    outputs_as: Literal["instant", "mean_ending", "mean_starting"] = "instant"
+    """What an output at a measured time stamp is: the model's value at that instant, or its
+    mean over the sample interval that ends there (meters) or starts there (loggers that stamp
+    the start). Means are taken over the communication steps: set ``step_size`` below the
+    sample interval for them to mean something."""
 
     @model_validator(mode="after")
     def _exactly_one_model(self) -> "FMUOptions":
@@ -230,9 +235,11 @@ class FMUSimulator(simgap.Simulator):
             raise simgap.SimulationFailed(
                 f"output {case.outputs[column]} is {buffer[row, column]} at t={prepared.grid[row]:g} s"
             )
+        output_time = np.asarray(case.output_time, dtype=float)
+        if self.options.outputs_as != "instant":
+            return {name: interval_means(prepared.grid, buffer[:, j], output_time, self.options.outputs_as) for j, name in enumerate(case.outputs)}
         if prepared.output_rows is not None:
             return {name: buffer[prepared.output_rows, j] for j, name in enumerate(case.outputs)}
-        output_time = np.asarray(case.output_time, dtype=float)
         return {name: np.interp(output_time, prepared.grid, buffer[:, j]) for j, name in enumerate(case.outputs)}
 
     # ---------------------------------------------------------------------------------------
@@ -290,7 +297,10 @@ class FMUSimulator(simgap.Simulator):
             values = np.asarray(result[name], dtype=float)
             if not np.all(np.isfinite(values)):
                 raise simgap.SimulationFailed(f"output {name} is not finite")
-            aligned[name] = np.interp(output_time, result["time"], values)
+            if self.options.outputs_as == "instant":
+                aligned[name] = np.interp(output_time, result["time"], values)
+            else:
+                aligned[name] = interval_means(result["time"], values, output_time, self.options.outputs_as)
         return aligned
 
     # ---------------------------------------------------------------------------------------
@@ -461,3 +471,36 @@ def _as_float(value) -> float | None:
 def _one_line(exc: BaseException) -> str:
     text = str(exc).strip() or type(exc).__name__
     return text.splitlines()[0]
+
+
+def interval_means(time: np.ndarray, values: np.ndarray, stamps: np.ndarray, mode: str) -> np.ndarray:
+    """Mean of a piecewise-linear series over each sample interval of ``stamps``.
+
+    ``mean_ending``: over (previous stamp, stamp]; ``mean_starting``: over [stamp, next stamp).
+    The interval beyond the first (or last) stamp takes the neighbouring spacing; where it
+    leaves the simulated range, the part inside is averaged.
+    """
+    time = np.asarray(time, dtype=float)
+    values = np.asarray(values, dtype=float)
+    stamps = np.asarray(stamps, dtype=float)
+    if len(stamps) < 2:
+        return np.interp(stamps, time, values)
+    spacing = np.diff(stamps)
+    if mode == "mean_ending":
+        lower, upper = stamps - np.concatenate([spacing[:1], spacing]), stamps
+    else:
+        lower, upper = stamps, stamps + np.concatenate([spacing, spacing[-1:]])
+    lower = np.clip(lower, time[0], time[-1])
+    upper = np.clip(upper, time[0], time[-1])
+    integral = np.concatenate([[0.0], np.cumsum(np.diff(time) * (values[1:] + values[:-1]) / 2.0)])
+
+    def cumulative(t):
+        # exact integral of the piecewise-linear series up to t
+        k = np.clip(np.searchsorted(time, t, side="right") - 1, 0, len(time) - 2)
+        dt = t - time[k]
+        slope = (values[k + 1] - values[k]) / np.where(time[k + 1] > time[k], time[k + 1] - time[k], 1.0)
+        return integral[k] + dt * (values[k] + 0.5 * slope * dt)
+
+    width = upper - lower
+    means = (cumulative(upper) - cumulative(lower)) / np.where(width > 0, width, 1.0)
+    return np.where(width > 0, means, np.interp(stamps, time, values))

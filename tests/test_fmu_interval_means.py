@@ -1,0 +1,43 @@
+"""Outputs as interval means (meters and loggers report means, not instants)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import simgap
+from simgap.plugins.fmu import FMUSimulator
+from simgap.plugins.fmu.simulator import interval_means
+from tests.conftest import REPO
+
+TRUTH = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
+
+
+def test_means_of_a_ramp_and_a_step():
+    t = np.arange(0.0, 121.0)
+    np.testing.assert_allclose(interval_means(t, t, np.array([60.0, 120.0]), "mean_ending"), [30.0, 90.0])
+    np.testing.assert_allclose(interval_means(t, t, np.array([0.0, 60.0]), "mean_starting"), [30.0, 90.0])
+    step = np.where(t < 30, 0.0, 1.0)
+    np.testing.assert_allclose(interval_means(t, step, np.array([60.0, 120.0]), "mean_ending"), [30.5 / 60, 1.0])
+
+
+@pytest.mark.parametrize("mode", ["mean_ending", "mean_starting"])
+def test_fmu_outputs_as_interval_means(tmp_path, mode):
+    context = simgap.PluginContext(base_dir=REPO, cache_dir=tmp_path)
+    source = str(REPO / "examples" / "models" / "quickstart_zone")
+    fine_t = np.arange(0.0, 6 * 3600.0 + 1, 60.0)
+    inputs = {"T_out": np.full(len(fine_t), 275.0), "u_hp": np.where((fine_t // 1800) % 2 == 0, 0.8, 0.0)}
+    coarse_t = fine_t[::10]  # a 10-minute "logger"
+
+    def run(outputs_as, stamps):
+        sim = FMUSimulator(FMUSimulator.Options(source=source, step_size=60.0, outputs_as=outputs_as), context)
+        case = simgap.SimulationCase(f"{outputs_as}", pd.Timestamp("2025-01-01"), 0.0, fine_t[-1], fine_t, inputs, stamps, ("P_el",))
+        return sim.simulate(TRUTH, case)["P_el"]
+
+    instant = run("instant", fine_t)
+    means = run(mode, coarse_t)
+    expected = interval_means(fine_t, instant, coarse_t, mode)
+    np.testing.assert_allclose(means, expected, rtol=1e-12)
+    # and they differ from the instantaneous samples wherever the heat pump switched
+    assert np.abs(means - instant[::10]).max() > 100.0
