@@ -36,9 +36,10 @@ _WORKFLOW_SHAPE = {
     "air_source_hp": dict(
         targets=[("THCFlow_K", ["rmse"]), ("PEl_W", ["cvrmse"])],
         warmup="30min",
-        # a logger's interval means compared with a simulation sampled at the interval start lead
-        # by half an interval: at 10 s that is small against the effects' time constants
         resolution=10.0,
+        # the data are interval means stamped at the interval start: the simulation returns the
+        # same means (an instant sample would lead by half an interval)
+        simulator={"outputs_as": "mean_starting", "step_size": 5.0},
         # training and validation each hold a cycling autumn day and a cold winter day
         seasons=("autumn", "winter", "autumn", "winter"),
         days=1,
@@ -48,6 +49,9 @@ _WORKFLOW_SHAPE = {
         targets=[("PEl_W", ["cvrmse"]), ("TSup_K", ["rmse"])],
         warmup="1d",
         resolution="5min",
+        # 5-min interval means of a simulation stepped at 1 min (as the data were made); an
+        # instant sample every 5 min put even the true model at a power CV(RMSE) of 0.37
+        simulator={"outputs_as": "mean_starting", "step_size": 60.0},
         seasons=("winter",),
         days=4,
         noise={"TSup_K": 0.05, "PEl_W": 100.0},
@@ -117,7 +121,7 @@ def write_case(case: BlindCase, folder: Path) -> Path:
         },
         "simulator": {
             "plugin": "fmu",
-            "options": {"source": str(synth.models_dir() / spec.folder)},
+            "options": {"source": str(synth.models_dir() / spec.folder), **shape.get("simulator", {})},
             "inputs": inputs,
         },
         "parameters": parameters,
@@ -182,9 +186,12 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
 
 
 def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
-    """Share of the avoidable validation gap closed: (before − after) / (before − truth's error),
-    over the metrics the withheld effect visibly worsens (the truth is the model with the true
-    parameters and the effect on, scored on the same noisy data)."""
+    """Share of the avoidable validation gap closed, (before − after) / (before − truth), where
+    the truth is the model with the true parameters and the effect on, scored on the same noisy
+    data. Metrics are summed relative to their error before (so units do not matter) and over
+    every metric: a metric the effect barely touches adds little to the avoidable gap but its
+    degradation still counts. (A mean of per-metric ratios exploded on such a metric: a power
+    CV(RMSE) with 6 % avoidable gap that got 4 % worse counted −68 %.)"""
     import json
 
     from ..evaluation import evaluate
@@ -192,15 +199,15 @@ def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
 
     truth = json.loads((Path(workflow).parent / "measured.truth.json").read_text())
     prepared = prepare(workflow)
-    params = {k: v for k, v in truth["parameters"].items()}
-    row = evaluate(prepared.validation, -1, params)
+    row = evaluate(prepared.validation, -1, dict(truth["parameters"]))
     if row["errors"] is None:
         return None
-    ratios = []
+    gained = avoidable = 0.0
     for col, before in recal["before"].items():
         floor = row["errors"].get(col)
         after = recal["after"].get(col)
-        if floor is None or after is None or not before - floor > 0.05 * before:
+        if floor is None or after is None or not before > 0:
             continue
-        ratios.append((before - after) / (before - floor))
-    return float(np.mean(ratios)) if ratios else None
+        gained += (before - after) / before
+        avoidable += max(before - floor, 0.0) / before
+    return gained / avoidable if avoidable > 0.02 else None

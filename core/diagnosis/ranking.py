@@ -50,6 +50,8 @@ class Candidate:
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     """Per target, the part of the residual the effect's features reproduce."""
+    responses: list[tuple[dict[str, float], dict[str, np.ndarray]]] = field(default_factory=list, repr=False)
+    """(effect parameter values, simulated change per target) at every screened setting."""
 
     @property
     def claimed(self) -> bool:
@@ -171,6 +173,8 @@ class Nuisance:
     """Per target: the tuners' sensitivity columns (what recalibration alone could absorb)."""
 
     columns: dict[str, dict[str, np.ndarray]]
+    steps: dict[str, float] = field(default_factory=dict)
+    """Per column name, the signed step in the tuner's unit range that produced it."""
 
 
 def tuner_sensitivities(ctx: Context, step: float = 0.05) -> Nuisance:
@@ -179,17 +183,19 @@ def tuner_sensitivities(ctx: Context, step: float = 0.05) -> Nuisance:
     names = list(space.names)
     x = space.to_unit(np.array([[ctx.parameters[n] for n in names]]))[0]
     out: dict[str, dict[str, np.ndarray]] = {t: {} for t in ctx.targets}
+    steps: dict[str, float] = {}
     base = ctx.joined("simulated")
     for j, name in enumerate(names):
         xp = x.copy()
         xp[j] = x[j] + step if x[j] + step <= 1.0 else x[j] - step
+        steps[f"tuner {name}"] = float(xp[j] - x[j])
         params = space.as_dicts(space.from_unit(xp[None, :]))[0]
         series = _simulate_all(ctx, params)
         if series is None:
             continue
         for t in ctx.targets:
             out[t][f"tuner {name}"] = series[t] - base[t]
-    return Nuisance(out)
+    return Nuisance(out, steps)
 
 
 def _simulate_all(ctx: Context, params: dict[str, float]) -> dict[str, np.ndarray] | None:
@@ -218,14 +224,14 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3) -> list[di
     return settings
 
 
-def effect_responses(ctx: Context, addition: EffectAddition) -> list[dict[str, np.ndarray]]:
-    """Simulated change of every target with the effect switched on, per setting."""
+def effect_responses(ctx: Context, addition: EffectAddition) -> list[tuple[dict[str, float], dict[str, np.ndarray]]]:
+    """(setting, simulated change of every target with the effect switched on) per setting."""
     base = ctx.joined("simulated")
     out = []
     for values in effect_settings(addition):
         series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values})
         if series is not None:
-            out.append({t: series[t] - base[t] for t in ctx.targets})
+            out.append((values, {t: series[t] - base[t] for t in ctx.targets}))
     return out
 
 
@@ -275,7 +281,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         features = dict(effect.signature(data))
         addition = effect.addition(data)
         cand.addition = addition
-        responses = effect_responses(ctx, addition) if addition is not None else []
+        cand.responses = effect_responses(ctx, addition) if addition is not None else []
+        responses = [change for _, change in cand.responses]
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
         for t, (mask, N, rt) in prepared_targets.items():

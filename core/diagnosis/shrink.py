@@ -3,8 +3,10 @@
 The recalibration is an ordinary simgap run of a derived workflow (written next to the report,
 so it can be re-run by hand): the effect's switch goes into ``simulator.options.start_values``,
 the effect's tuners join the model's tuners, and the model's tuners are narrowed to ±25 % of
-their range around the diagnosed solution, which also seeds the first generation (a warm
-start: the effect is searched, the rest is touched up).
+their range around the diagnosed solution. The first generation is seeded with a warm start
+(``warmstart.linear_start``: the effect at its best screened setting and the tuners moved by
+one linearised step to make room for it), so the search starts at the joint fit the
+screening points to rather than at a solution that imitates the effect already.
 """
 
 from __future__ import annotations
@@ -37,7 +39,9 @@ def _absolute_paths(value, base: Path):
     return value
 
 
-def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path) -> Path:
+def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path, start: dict[str, float] | None = None) -> Path:
+    """The recalibration's workflow; ``start`` (any tuner or effect parameter) seeds it."""
+    start = start or {}
     wf = ctx.prepared.wf
     data = copy.deepcopy(wf.doc.data)
     base = wf.base_dir
@@ -57,12 +61,14 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
         else:
             width = NARROW * (p.max - p.min)
             new_min, new_max = max(p.min, value - width), min(p.max, value + width)
-        entry = {"name": p.name, "min": new_min, "max": new_max, "start": min(max(value, new_min), new_max), "scale": p.scale}
+        seed = start.get(p.name, value)
+        entry = {"name": p.name, "min": new_min, "max": new_max, "start": min(max(seed, new_min), new_max), "scale": p.scale}
         if p.unit:
             entry["unit"] = p.unit
         params.append(entry)
     for p in addition.parameters:
-        entry = {"name": p.name, "min": p.lower, "max": p.upper, "start": p.default, "scale": p.scale}
+        seed = start.get(p.name, p.default)
+        entry = {"name": p.name, "min": p.lower, "max": p.upper, "start": min(max(seed, p.lower), p.upper), "scale": p.scale}
         if p.scale == "log" and p.lower <= 0:
             entry["scale"] = "linear"
         if p.unit:
@@ -110,7 +116,15 @@ def _before(ctx: Context) -> dict[str, float]:
     return dict(row["errors"] or {})
 
 
-def recalibrate(ctx: Context, effect: str, addition: EffectAddition, folder: Path, weights: dict[str, float], control: dict | None = None) -> dict:
+def recalibrate(
+    ctx: Context,
+    effect: str,
+    addition: EffectAddition,
+    folder: Path,
+    weights: dict[str, float],
+    control: dict | None = None,
+    start: dict[str, float] | None = None,
+) -> dict:
     """Run the derived calibration; return before/after validation errors and the shrink.
 
     With a ``control`` (the same re-tuning without the effect), ``gap_shrink`` is measured
@@ -121,8 +135,10 @@ def recalibrate(ctx: Context, effect: str, addition: EffectAddition, folder: Pat
 
     before = _before(ctx)
     out: dict = {"effect": effect, "before": before}
+    if start:
+        out["start"] = dict(start)
     try:
-        path = derived_workflow(ctx, effect, addition, folder)
+        path = derived_workflow(ctx, effect, addition, folder, start)
         prepared = prepare(path)
         run_dir = calibrate(prepared, workers=ctx.config.recalibrate.workers)
     except Exception as exc:  # a failed recalibration is a finding, not a crash of the report

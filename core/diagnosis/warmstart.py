@@ -1,0 +1,87 @@
+"""Where a recalibration starts: one linearised (Gauss-Newton) step from the diagnosed solution.
+
+A base calibration that lacks an effect has bent its tuners to imitate it (a missing heat loss
+pulls the heat-output scale down). Switching the effect on at the old solution then counts
+the effect twice, and a small warm-started search may never leave that basin: the
+recalibration looks worse than re-tuning alone although the effect is real.
+
+The screening already holds what a joint fit needs: the finite-difference sensitivity of every
+target to every tuner at the solution, and the simulated change of every target with the
+effect on at a few settings. Per setting, the residual minus that change is regressed on the
+sensitivities (targets weighted by their residual's size, each with its own offset and
+switching-instant columns, which re-tuning cannot use); the setting that leaves the least and
+the tuner step it asks for are the start. The control (re-tuning without any effect) gets the
+same step with no effect, so an effect is not credited with a better start.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .context import Context
+from .ranking import Nuisance, switching_instants
+
+MAX_STEP = 0.25
+"""Largest move of a tuner, as a share of its range: the linearisation holds only nearby."""
+
+
+def linear_start(
+    ctx: Context,
+    nuisance: Nuisance,
+    responses: list[tuple[dict[str, float], dict[str, np.ndarray]]] | None = None,
+) -> tuple[dict[str, float], dict[str, float]]:
+    """(model tuner values, effect parameter values) to start a recalibration from.
+
+    Without ``responses`` (the control) only the tuners move.
+    """
+    residual = ctx.residual
+    names = [n for n in nuisance.steps if all(n in nuisance.columns.get(t, {}) for t in ctx.targets)]
+    instants = switching_instants(ctx.data())
+    blocks, shared, weights, masks = [], [], [], []
+    for t in ctx.targets:
+        r = residual[t]
+        mask = np.isfinite(r)
+        for n in names:
+            mask &= np.isfinite(nuisance.columns[t][n])
+        scale = float(np.nanstd(r[mask])) if mask.any() else 0.0
+        if not mask.any() or scale <= 0:
+            continue
+        w = 1.0 / scale
+        block = [np.ones(int(mask.sum()))] + [v[mask] for v in instants.values() if np.std(v[mask]) > 0]
+        blocks.append(np.column_stack(block) * w)
+        shared.append(np.column_stack([nuisance.columns[t][n][mask] for n in names]) * w if names else np.zeros((int(mask.sum()), 0)))
+        weights.append((t, w, mask))
+        masks.append(mask)
+    if not blocks or not names:
+        return dict(ctx.parameters), dict(responses[0][0]) if responses else {}
+    # block-diagonal per-target nuisance beside the shared tuner columns
+    rows = sum(b.shape[0] for b in blocks)
+    width = sum(b.shape[1] for b in blocks)
+    own = np.zeros((rows, width))
+    r0 = c0 = 0
+    for b in blocks:
+        own[r0 : r0 + b.shape[0], c0 : c0 + b.shape[1]] = b
+        r0 += b.shape[0]
+        c0 += b.shape[1]
+    design = np.hstack([np.vstack(shared), own])
+    options = responses or [({}, None)]
+    best = None
+    for setting, change in options:
+        y = np.concatenate(
+            [(residual[t][mask] - (change[t][mask] if change is not None else 0.0)) * w for t, w, mask in weights]
+        )
+        y = np.where(np.isfinite(y), y, 0.0)
+        coef, *_ = np.linalg.lstsq(design, y, rcond=None)
+        left = float(np.sum((y - design @ coef) ** 2))
+        if best is None or left < best[0]:
+            best = (left, setting, coef[: len(names)])
+    _, setting, beta = best
+    space = ctx.prepared.space
+    order = list(space.names)
+    x = space.to_unit(np.array([[ctx.parameters[n] for n in order]]))[0]
+    for n, b in zip(names, beta):
+        j = order.index(n[len("tuner ") :])
+        move = float(np.clip(b * nuisance.steps[n], -MAX_STEP, MAX_STEP))
+        x[j] = float(np.clip(x[j] + move, 0.0, 1.0))
+    tuners = space.as_dicts(space.from_unit(x[None, :]))[0]
+    return {k: float(v) for k, v in tuners.items()}, dict(setting)
