@@ -33,6 +33,7 @@ from .interfaces import (
 )
 from .fmu_build import build_fmu
 from .plugin_host import hookimpl
+from .weighting import WeightedOptions, scalarise, weight_vector
 
 __version__ = "0.1.0"
 
@@ -61,6 +62,9 @@ __all__ = [
     "load_run",
     "__version__",
     "build_fmu",
+    "WeightedOptions",
+    "scalarise",
+    "weight_vector",
 ]
 
 

@@ -5,15 +5,15 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+import pandas as pd
 
-matplotlib.use("Agg")  # runs headless on workers and CI; never opens a window
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
+# Figure objects render PNG without pyplot, so a run inside Jupyter never switches the
+# notebook's backend, and nothing opens a window on a headless machine.
+from matplotlib.figure import Figure
 
-from .evaluation import STATUS_OK  # noqa: E402
-from .results import OBJECTIVE  # noqa: E402
+from .evaluation import STATUS_OK
+from .results import OBJECTIVE
 
 
 def _slug(text: str) -> str:
@@ -25,13 +25,15 @@ def plot_front(path: Path, frame: pd.DataFrame, pareto: pd.DataFrame, objectives
     cols = [OBJECTIVE + c for c in objectives]
     k = len(cols)
     if k == 1:
-        fig, ax = plt.subplots(figsize=(6, 4))
+        fig = Figure(figsize=(6, 4))
+        ax = fig.subplots()
         ax.hist(ok[cols[0]], bins=40, color="0.7")
         ax.axvline(pareto[cols[0]].min(), color="C3", label="best")
         ax.set_xlabel(objectives[0])
         ax.legend()
     else:
-        fig, axes = plt.subplots(k - 1, k - 1, figsize=(4.2 * (k - 1), 3.6 * (k - 1)), squeeze=False)
+        fig = Figure(figsize=(4.2 * (k - 1), 3.6 * (k - 1)))
+        axes = fig.subplots(k - 1, k - 1, squeeze=False)
         knee = pareto[pareto["knee"]]
         for r in range(1, k):
             for c in range(k - 1):
@@ -53,11 +55,11 @@ def plot_front(path: Path, frame: pd.DataFrame, pareto: pd.DataFrame, objectives
     fig.suptitle(f"Pareto front: {len(pareto)} of {len(ok)} successful evaluations")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def plot_convergence(path: Path, frame: pd.DataFrame, objectives: list[str]) -> None:
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig = Figure(figsize=(7, 4))
+    ax = fig.subplots()
     order = frame.sort_values("eval_id")
     for name in objectives:
         values = order[OBJECTIVE + name].to_numpy(dtype=float)
@@ -75,7 +77,6 @@ def plot_convergence(path: Path, frame: pd.DataFrame, objectives: list[str]) -> 
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 MAX_POINTS = 20_000  # beyond this a line plot shows nothing more and takes seconds to draw
@@ -93,7 +94,8 @@ def plot_series(path: Path, label: str, eval_id: int, series: dict) -> None:
     if not kinds:
         return
     targets = series[kinds[0]]["setup"].targets
-    fig, axes = plt.subplots(len(targets), len(kinds), figsize=(7 * len(kinds), 2.8 * len(targets)), squeeze=False)
+    fig = Figure(figsize=(7 * len(kinds), 2.8 * len(targets)))
+    axes = fig.subplots(len(targets), len(kinds), squeeze=False)
     for col, kind in enumerate(kinds):
         setup = series[kind]["setup"]
         simulated = series[kind]["series"][eval_id] or {}
@@ -112,7 +114,6 @@ def plot_series(path: Path, label: str, eval_id: int, series: dict) -> None:
     fig.suptitle(f"{label} (evaluation {eval_id})")
     fig.tight_layout()
     fig.savefig(path, dpi=100)
-    plt.close(fig)
 
 
 def write_plots(run_dir: Path, frame: pd.DataFrame, pareto: pd.DataFrame, objectives: list[str], featured: dict[str, int], series: dict) -> list[Path]:

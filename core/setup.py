@@ -256,6 +256,16 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
     )
     if problem.n_obj == 0:
         raise wf.error(("targets",), "no metric is an objective; set 'objective: true' on at least one")
-    return Prepared(wf, registry, data, simulator, space, training, validation, problem, notes)
+    prepared = Prepared(wf, registry, data, simulator, space, training, validation, problem, notes)
+    # an optimiser checks some options only against the problem (weights name objectives):
+    # build one now so that `simgap check` finds those at their line too
+    try:
+        prepared.make_optimiser(max_evaluations=None)
+    except ConfigError as exc:
+        if exc.where:
+            raise
+        key = tuple(exc.path.split(".")) if exc.path else ("optimiser", "options")
+        raise wf.error(key, exc.detail) from None
+    return prepared
 
 

@@ -139,3 +139,8 @@ def test_metric_that_cannot_score_the_measured_data_fails_once_at_its_line(quick
 def test_several_series_need_a_multi_column_metric(quickstart_text, write_workflow):
     text = quickstart_text.replace("    measured: T_zone\n    simulated: T_zone\n", "    measured: [T_zone, P_el]\n    simulated: [T_zone, P_el]\n")
     assert_one_line_error(check(write_workflow(text)), "targets[0].metrics[0].name", "scores one series")
+
+
+def test_unknown_weight_name_is_found_by_check(quickstart_text, write_workflow):
+    text = quickstart_text.replace("plugin: nsga2\n  options: {population: 40}", "plugin: pso\n  options: {weights: {T_zone.rmse: 0.95, P_el.cvrmsee: 0.05}}")
+    assert_one_line_error(check(write_workflow(text)), "optimiser.options.weights", "'P_el.cvrmsee'", "T_zone.rmse, P_el.cvrmse")

@@ -155,9 +155,8 @@ def test_nelder_mead_from_the_start_values(tmp_path, low_noise_csv, executor):
 @pytest.mark.parametrize("plugin", ["pso", "differential_evolution", "nelder_mead"])
 def test_unknown_weight_names_are_a_clear_error(tmp_path, low_noise_csv, plugin):
     path = _workflow(tmp_path, low_noise_csv, f"plugin: {plugin}\n  options: {{weights: {{T_zone.rsme: 1}}}}", 40)
-    prepared = prepare(path)
-    with pytest.raises(simgap.ConfigError) as info:
-        prepared.make_optimiser(40)
+    with pytest.raises(simgap.ConfigError) as info:  # found by prepare, i.e. by `simgap check`
+        prepare(path)
     message = str(info.value)
     assert "optimiser.options.weights" in message and "'T_zone.rsme'" in message
     assert "T_zone.rmse, P_el.cvrmse" in message

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from simgap.plugins.weighting import WeightedOptions, scalarise, weight_vector
+from simgap import WeightedOptions, scalarise, weight_vector
 
 from .ask_tell import PymooAskTell
 

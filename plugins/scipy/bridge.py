@@ -21,7 +21,7 @@ from typing import Callable
 import numpy as np
 
 import simgap
-from simgap.plugins.weighting import scalarise, weight_vector
+from simgap import scalarise, weight_vector
 
 _STOP = object()
 

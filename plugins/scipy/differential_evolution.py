@@ -7,7 +7,7 @@ import math
 import numpy as np
 from pydantic import Field
 
-from simgap.plugins.weighting import WeightedOptions
+from simgap import WeightedOptions
 
 from .bridge import ScipyBridge
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from simgap.plugins.weighting import WeightedOptions
+from simgap import WeightedOptions
 
 from .bridge import ScipyBridge
 

@@ -1,7 +1,8 @@
 """A weighted sum of the objective vector, for the optimisers that want one number.
 
-Shared by the built-in scalarising optimisers (pymoo's PSO, scipy's differential evolution and
-Nelder-Mead). The optimiser still receives every objective in ``tell`` and simgap logs every
+Public (``simgap.WeightedOptions``, ``simgap.weight_vector``, ``simgap.scalarise``) for any
+scalarising optimiser plugin; the built-in ones (pymoo's PSO, scipy's differential evolution and
+Nelder-Mead) use it. The optimiser still receives every objective in ``tell`` and simgap logs every
 target's error, so a scalarised run can be compared with a front afterwards.
 """
 
@@ -12,14 +13,15 @@ import math
 import numpy as np
 from pydantic import Field
 
-import simgap
+from .errors import ConfigError
+from .interfaces import PluginOptions, Problem
 
 # A failed simulation's objectives are +inf; scipy and pymoo do arithmetic on the value, so a
 # large finite stand-in keeps them quiet while still ranking the point last.
 FAILED_SCALAR = 1e30
 
 
-class WeightedOptions(simgap.PluginOptions):
+class WeightedOptions(PluginOptions):
     weights: dict[str, float] | None = Field(
         None,
         description=(
@@ -29,27 +31,27 @@ class WeightedOptions(simgap.PluginOptions):
     )
 
 
-def weight_vector(weights: dict[str, float] | None, problem: simgap.Problem) -> np.ndarray:
+def weight_vector(weights: dict[str, float] | None, problem: Problem) -> np.ndarray:
     """The weights in the problem's objective order; a clear error for unknown names."""
     known = problem.objective_names
     if weights is None:
         return np.ones(problem.n_obj)
     unknown = [name for name in weights if name not in known]
     if unknown:
-        raise simgap.ConfigError(
+        raise ConfigError(
             f"unknown objective(s) {', '.join(repr(u) for u in unknown)}; "
             f"the objectives of this workflow are: {', '.join(known)}",
             path="optimiser.options.weights",
         )
     bad = {name: w for name, w in weights.items() if not (math.isfinite(w) and w >= 0)}
     if bad:
-        raise simgap.ConfigError(
+        raise ConfigError(
             f"weights must be finite and >= 0, got {', '.join(f'{k}: {v}' for k, v in bad.items())}",
             path="optimiser.options.weights",
         )
     vector = np.array([float(weights.get(name, 0.0)) for name in known])
     if not vector.sum() > 0:
-        raise simgap.ConfigError("at least one weight must be > 0", path="optimiser.options.weights")
+        raise ConfigError("at least one weight must be > 0", path="optimiser.options.weights")
     return vector
 
 
