@@ -14,7 +14,7 @@ from .ranking import Candidate, rank_effects, tuner_sensitivities
 from .report import verdict, write
 from ..interfaces import EffectAddition
 from .shrink import CONTROL, recalibrate
-from .warmstart import linear_start
+from .warmstart import local_fit
 from .where import analyse
 
 def installed_effects(names: list[str] | None = None) -> list:
@@ -86,15 +86,13 @@ def diagnose(
         # the control: the same re-tuning without any effect, so a shrink that re-tuning alone
         # achieves is not credited to an effect
         say(f"control recalibration without an effect ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
-        tuners, _ = linear_start(ctx, nuisance)
-        control = recalibrate(ctx, CONTROL, EffectAddition(switch={}, parameters=()), folder / "recalibration" / CONTROL, {}, start=tuners)
+        none = EffectAddition(switch={}, parameters=())
+        control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance))
     for cand in chosen:
         say(f"recalibrating with {cand.name} added ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
         weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
-        tuners, setting = linear_start(ctx, nuisance, cand.responses)
-        result = recalibrate(
-            ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control, start={**tuners, **setting}
-        )
+        start = local_fit(ctx, nuisance, cand.addition, cand.responses)
+        result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control, start=start)
         if "gap_shrink" in result:
             cand.gap_shrink = float(result["gap_shrink"])
             cand.shrink_vs_control = result.get("gap_shrink_vs_control")

@@ -3,10 +3,11 @@
 The recalibration is an ordinary simgap run of a derived workflow (written next to the report,
 so it can be re-run by hand): the effect's switch goes into ``simulator.options.start_values``,
 the effect's tuners join the model's tuners, and the model's tuners are narrowed to ±25 % of
-their range around the diagnosed solution. The first generation is seeded with a warm start
-(``warmstart.linear_start``: the effect at its best screened setting and the tuners moved by
-one linearised step to make room for it), so the search starts at the joint fit the
-screening points to rather than at a solution that imitates the effect already.
+their range around a warm start, which also seeds the first generation: ``warmstart.local_fit``,
+the effect at its best screened setting and the tuners moved by a linearised step to make
+room for it, then a few bounded least-squares iterations on the training data. The search
+starts at the joint fit rather than at a solution whose tuners imitate the effect already
+(and may sit so far from the joint fit that ±25 % around it never reaches it).
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
     sim["options"]["start_values"].update({k: float(v) for k, v in addition.switch.items()})
     params = []
     for p in wf.model.parameters:
-        value = ctx.parameters[p.name]
+        value = start.get(p.name, ctx.parameters[p.name])
         if p.scale == "log":
             lo, hi = math.log(p.min), math.log(p.max)
             width = NARROW * (hi - lo)
@@ -61,8 +62,7 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
         else:
             width = NARROW * (p.max - p.min)
             new_min, new_max = max(p.min, value - width), min(p.max, value + width)
-        seed = start.get(p.name, value)
-        entry = {"name": p.name, "min": new_min, "max": new_max, "start": min(max(seed, new_min), new_max), "scale": p.scale}
+        entry = {"name": p.name, "min": new_min, "max": new_max, "start": min(max(value, new_min), new_max), "scale": p.scale}
         if p.unit:
             entry["unit"] = p.unit
         params.append(entry)
