@@ -18,6 +18,7 @@ log = logging.getLogger(__name__)
 HARD_TIMEOUT_FACTOR = 1.5
 HARD_TIMEOUT_GRACE_S = 30.0
 POLL_S = 1.0
+TASK_SECONDS = 0.25
 
 
 class DaskExecutor:
@@ -35,6 +36,7 @@ class DaskExecutor:
         self.cluster = None
         self._shared: dict[str, object] = {}  # setup token -> scattered future
         self._executing_since: dict[object, float] = {}  # task key -> first seen executing
+        self._seconds_per_evaluation: float | None = None
 
     # -- lifecycle ----------------------------------------------------------------------------
 
@@ -83,8 +85,26 @@ class DaskExecutor:
         return handle
 
     def _chunks(self, jobs: list) -> list[list]:
-        size = self.batch_size or max(1, math.ceil(len(jobs) / (4 * self.n_workers)))
-        return [jobs[i : i + size] for i in range(0, len(jobs), size)]
+        """Tasks of about TASK_SECONDS of work: enough evaluations per task that scheduling
+        (a few ms a task) stays small, few enough that no worker idles long at the end of a
+        generation while another finishes. Until evaluations have been timed, one per task."""
+        if self.batch_size:
+            return [jobs[i : i + self.batch_size] for i in range(0, len(jobs), self.batch_size)]
+        size = 1
+        if self._seconds_per_evaluation:
+            size = max(1, round(TASK_SECONDS / self._seconds_per_evaluation))
+            size = min(size, max(1, len(jobs) // (4 * self.n_workers)))
+        n = max(1, round(len(jobs) / size))
+        share, extra = divmod(len(jobs), n)
+        bounds = [i * share + min(i, extra) for i in range(n + 1)]
+        return [jobs[a:b] for a, b in zip(bounds, bounds[1:])]
+
+    def _learn_timing(self, rows: list[dict]) -> None:
+        times = [r["wall_time_s"] for r in rows if r.get("wall_time_s") and math.isfinite(r["wall_time_s"])]
+        if times:
+            latest = sum(times) / len(times)
+            previous = self._seconds_per_evaluation
+            self._seconds_per_evaluation = latest if previous is None else 0.7 * previous + 0.3 * latest
 
     def run(
         self,
@@ -127,6 +147,7 @@ class DaskExecutor:
                     got = [self._failed(setup, eval_id, f"worker lost: {type(exc).__name__}: {exc}") for eval_id, _ in chunk]
                 for row in got:
                     rows[row["eval_id"]] = row
+                self._learn_timing(got)
                 if on_done is not None:
                     on_done(got)
             if setup.timeout_s:
