@@ -83,6 +83,18 @@ def test_blind_sensor_lag_is_found_and_shrinks(tmp_path):
     assert data["recalibration"][0]["after"]
 
 
+def test_blind_heat_loss_absorbed_by_a_tuner_is_still_confirmed(tmp_path):
+    # the base calibration imitates the loss with a lower heat-output scale; switched on at that
+    # solution the loss counts twice: only a recalibration from the joint local fit confirms it
+    result = run_case(_quick("heat_loss", 3), tmp_path / "loss", candidates=1)
+    assert result["ranking"][0] == "heat_loss", result
+    assert result["claimed"][:1] == ["heat_loss"], result
+    assert result["shrink"] > 0.3 and result["beyond_control"] > 0.2, result
+    data = json.loads(next((tmp_path / "loss").glob("runs/*/diagnosis/diagnosis.json")).read_text())
+    loss = next(r for r in data["recalibration"] if r["effect"] == "heat_loss")
+    assert loss["start"]["scaleHPQCon_nominal"] > data["parameters"]["scaleHPQCon_nominal"], loss["start"]
+
+
 def test_null_case_claims_nothing_and_cli_errors(tmp_path):
     from simgap.calibrate import calibrate
     from simgap.setup import prepare
