@@ -37,7 +37,7 @@ def linear_start(
     residual = ctx.residual
     names = [n for n in nuisance.steps if all(n in nuisance.columns.get(t, {}) for t in ctx.targets)]
     instants = switching_instants(ctx.data())
-    blocks, shared, weights, masks = [], [], [], []
+    blocks, shared, weights = [], [], []
     for t in ctx.targets:
         r = residual[t]
         mask = np.isfinite(r)
@@ -51,7 +51,6 @@ def linear_start(
         blocks.append(np.column_stack(block) * w)
         shared.append(np.column_stack([nuisance.columns[t][n][mask] for n in names]) * w if names else np.zeros((int(mask.sum()), 0)))
         weights.append((t, w, mask))
-        masks.append(mask)
     if not blocks or not names:
         return dict(ctx.parameters), dict(responses[0][0]) if responses else {}
     # block-diagonal per-target nuisance beside the shared tuner columns
@@ -182,7 +181,7 @@ def local_fit(
     cache[x0.tobytes()] = base_r
     try:
         fit = least_squares(fun, x0, jac=jac, bounds=(0.0, 1.0), method="trf", max_nfev=iterations)
-    except Exception:  # a fit that cannot proceed leaves the linear start
+    except (ValueError, np.linalg.LinAlgError):  # a fit that cannot proceed leaves the linear start
         return start
     if not np.isfinite(fit.cost) or fit.cost >= 0.5 * float(base_r @ base_r):
         return start
