@@ -14,7 +14,7 @@ run `simgap diagnose` without saying what was withheld, and score:
 Null cases (nothing withheld) must claim nothing. Seeds, noise levels, strengths and seasons vary.
 
     python benchmarks/diagnosis_blind.py                 # the full table (about 1 h on 2 cores)
-    python benchmarks/diagnosis_blind.py --quick         # one case per effect of air_source_hp
+    python benchmarks/diagnosis_blind.py --quick         # one case per effect and model + a null case each (about 9 min)
     python benchmarks/diagnosis_blind.py --models water_to_water_hp --out /tmp/blind
 """
 
