@@ -32,6 +32,7 @@ from .interfaces import (
     Variable,
 )
 from .fmu_build import build_fmu
+from .fmu_log import FMULog
 from .plugin_host import hookimpl
 from .weighting import WeightedOptions, scalarise, weight_vector
 
@@ -62,6 +63,7 @@ __all__ = [
     "load_run",
     "__version__",
     "build_fmu",
+    "FMULog",
     "WeightedOptions",
     "scalarise",
     "weight_vector",

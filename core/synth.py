@@ -49,8 +49,6 @@ offsets are constant; lost samples are whole rows dropped in random gaps.
 
 from __future__ import annotations
 
-import ctypes
-import itertools
 import json
 import math
 from dataclasses import asdict, dataclass, field
@@ -61,6 +59,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import ModelError, SimgapError
+from .fmu_log import FMULog
 
 SEASONS = ("autumn", "winter", "summer")
 RESOLUTIONS = {"1s": 1.0, "1min": 60.0, "5min": 300.0}
@@ -383,43 +382,12 @@ def resolve_parameters(model: str, parameters: Mapping[str, float] | None = None
     return values
 
 
-# fmpy's logging proxy keeps a raw pointer to the last logger registered with it, for the whole
-# process: the callback must outlive every instance, so there is one, and messages reach the
-# right instance's list through the componentEnvironment key.
-_logs: dict[int, list[str]] = {}
-_log_keys = itertools.count(1)
-_native_logger = None
-
-
-def _process_logger(callback_type):
-    global _native_logger
-    if _native_logger is None:
-        _native_logger = callback_type(_dispatch_log)
-    return _native_logger
-
-
-def _dispatch_log(env, instance, status, category, message) -> None:
-    try:  # never let an exception cross back into C
-        target = _logs.get(env or 0)
-        if target is not None:
-            target.append(message.decode("utf-8", "replace") if message else "")
-    except Exception:
-        pass
-
-
 class _Stepper:
     """One FMU instance driven step by step with value references (for closed-loop benches)."""
 
     def __init__(self, fmu_path: Path, start_values: Mapping[str, float]):
-        from fmpy import calloc, extract, free, read_model_description
-        from fmpy.fmi2 import (
-            FMU2Slave,
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-            fmi2CallbackLoggerTYPE,
-        )
-        from fmpy.logging import addLoggerProxy
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import FMU2Slave
 
         self.fmu_name = fmu_path.name
         self.description = read_model_description(str(fmu_path))
@@ -436,15 +404,9 @@ class _Stepper:
         )
         # keep the FMU's own messages, so a rejected parameter value is reported in its words
         # instead of fmpy printing them and raising a bare status error
-        self.messages: list[str] = []
-        self._log_key = next(_log_keys)
-        _logs[self._log_key] = self.messages
-        self._callbacks = fmi2CallbackFunctions()
-        self._callbacks.logger = _process_logger(fmi2CallbackLoggerTYPE)
-        self._callbacks.componentEnvironment = self._log_key
-        self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(ctypes.byref(self._callbacks))
+        self._log = FMULog()
+        self.messages = self._log.lines
+        self._callbacks = self._log.callbacks
         self.slave.instantiate(callbacks=self._callbacks)
         self.slave.setupExperiment(startTime=0.0)
         names = list(start_values)
@@ -477,7 +439,7 @@ class _Stepper:
             self.slave.terminate()
             self.slave.freeInstance()
         finally:
-            _logs.pop(self._log_key, None)
+            self._log.close()
             shutil.rmtree(self.unzip_dir, ignore_errors=True)
 
 

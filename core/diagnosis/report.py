@@ -274,7 +274,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
             )
         else:
             lines.append(
-                f"Recalibrated with the original tuners (narrowed around the solution) and "
+                "Recalibrated with the original tuners (narrowed around the solution) and "
                 + ", ".join(f"{k} = {v:.4g}" for k, v in s["effect_parameters"].items())
                 + f" found; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
             )

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from ..errors import PluginError
 from ..plugin_host import get_registry
-from .context import Context, DiagnoseConfig, build_context
+from .context import build_context
 from .ranking import Candidate, rank_effects, tuner_sensitivities
 from .report import verdict, write
 from ..interfaces import EffectAddition

@@ -11,13 +11,14 @@ import atexit
 import collections
 import ctypes
 import io
-import itertools
 import os
 import shutil
 import tempfile
 import threading
 import zipfile
 from pathlib import Path
+
+import simgap
 
 # How often this process extracted an FMU, instantiated one, and reset an instance for reuse.
 # Tests and benchmarks read them through process_counts() to prove the reuse.
@@ -54,33 +55,17 @@ class FMURuntime:
     """One extracted FMU and one FMI 2.0 instance of it, with raw entry points for the step loop."""
 
     def __init__(self, digest: str, fmu_bytes: bytes, fmi_type: str):
-        from fmpy import calloc, free
-        from fmpy.fmi2 import (
-            FMU2Model,
-            FMU2Slave,
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-        )
+        from fmpy.fmi2 import FMU2Model, FMU2Slave
         from fmpy.model_description import read_model_description
 
         self.digest = digest
         self.fmi_type = fmi_type
         self.unzip_dir = _extract(digest, fmu_bytes)
         self.description = read_model_description(str(self.unzip_dir), validate=False)
-        self.log: collections.deque[str] = collections.deque(maxlen=_LOG_LINES_KEPT)
-
-        # The FMU's printf-style messages are formatted by fmpy's native proxy, which forwards
-        # them to one process-wide logger; componentEnvironment tells whose message it is. We
-        # keep the text so a failed run can say in the FMU's own words what went wrong.
-        self._log_key = next(_log_keys)
-        _logs[self._log_key] = self.log
-        self._callbacks = fmi2CallbackFunctions()
-        self._callbacks.logger = _process_logger()
-        self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        self._callbacks.componentEnvironment = self._log_key
-        _add_logger_proxy(self._callbacks)
+        # the FMU's own messages, so a failed run can say in its words what went wrong
+        self._log = simgap.FMULog(keep=_LOG_LINES_KEPT)
+        self.log = self._log.lines
+        self._callbacks = self._log.callbacks
 
         if fmi_type == "CoSimulation":
             interface, cls = self.description.coSimulation, FMU2Slave
@@ -123,7 +108,7 @@ class FMURuntime:
     def begin_run(self) -> None:
         """Bring the instance back to 'instantiated' (fmi2Reset after a previous run)."""
         self.log.clear()
-        _claim_native_logger()
+        self._log.claim()
         if self.used:
             status = self._reset()
             self.check("fmi2Reset", status)
@@ -138,50 +123,7 @@ class FMURuntime:
             self.fmu.freeInstance()
         except Exception:
             pass
-        _logs.pop(self._log_key, None)
-
-
-# -------------------------------------------------------------------------------------------
-# logging
-
-_logs: dict[int, collections.deque] = {}
-_log_keys = itertools.count(1)
-_native_logger = None
-
-
-def _process_logger():
-    global _native_logger
-    if _native_logger is None:
-        from fmpy.fmi2 import fmi2CallbackLoggerTYPE
-
-        _native_logger = fmi2CallbackLoggerTYPE(_dispatch_log)
-    return _native_logger
-
-
-def _dispatch_log(env, instance_name, status, category, message) -> None:
-    try:  # never let an exception cross back into C
-        text = message.decode("utf-8", "replace") if message else ""
-        log = _logs.get(env or 0)
-        if log is not None:
-            log.append(text)
-    except Exception:
-        pass
-
-
-def _add_logger_proxy(callbacks) -> None:
-    from fmpy.logging import addLoggerProxy
-
-    addLoggerProxy(ctypes.byref(callbacks))
-
-
-def _claim_native_logger() -> None:
-    # fmpy's proxy keeps one global target; other fmpy users in the process may have redirected
-    # it since our instance was created, so point it back at our dispatcher before each run.
-    from fmpy.fmi2 import fmi2CallbackFunctions
-
-    probe = fmi2CallbackFunctions()
-    probe.logger = _process_logger()
-    _add_logger_proxy(probe)
+        self._log.close()
 
 
 def _function(dll, name: str, *argtypes):
