@@ -41,3 +41,36 @@ def test_fmu_outputs_as_interval_means(tmp_path, mode):
     np.testing.assert_allclose(means, expected, rtol=1e-12)
     # and they differ from the instantaneous samples wherever the heat pump switched
     assert np.abs(means - instant[::10]).max() > 100.0
+
+
+@pytest.mark.parametrize("fmi_type", ["CoSimulation", "ModelExchange"])
+@pytest.mark.parametrize("mode", ["mean_starting", "mean_ending"])
+def test_fmu_inputs_as_interval_means_are_held(tmp_path, fmi_type, mode):
+    """Half-hourly input means applied as held values equal the same input held explicitly on a
+    fine grid, and differ from the means interpolated as instants."""
+    context = simgap.PluginContext(base_dir=REPO, cache_dir=tmp_path)
+    source = str(REPO / "examples" / "models" / "quickstart_zone")
+    stamps = np.arange(0.0, 6 * 3600.0 + 1, 1800.0)
+    u_means = np.array([0.8, 0.0, 0.5, 1.0, 0.0, 0.3, 0.9, 0.0, 0.6, 0.2, 0.0, 0.7, 0.4])
+    fine_t = np.arange(0.0, stamps[-1] + 1, 60.0)
+    # the interval each fine step lies in: [stamp, next) or (previous, stamp]
+    index = fine_t // 1800 if mode == "mean_starting" else np.ceil((fine_t + 1e-6) / 1800)
+    u_fine = u_means[np.clip(index.astype(int), 0, len(stamps) - 1)]
+
+    def run(inputs_as, input_time, u):
+        options = FMUSimulator.Options(source=source, step_size=60.0, fmi_type=fmi_type, inputs_as=inputs_as,
+                                       **({"solver": "Euler"} if fmi_type == "ModelExchange" else {}))
+        sim = FMUSimulator(options, context)
+        inputs = {"T_out": np.full(len(input_time), 275.0), "u_hp": u}
+        case = simgap.SimulationCase(f"{mode}-{inputs_as}-{len(input_time)}", pd.Timestamp("2025-01-01"), 0.0, stamps[-1], input_time, inputs, fine_t, ("P_el", "T_zone"))
+        return sim.simulate(TRUTH, case)
+
+    held = run(mode, stamps, u_means)
+    explicit = run("instant", fine_t, u_fine)
+    interpolated = run("instant", stamps, u_means)
+    inside = (fine_t % 1800) != 0  # at a stamp itself, ME output sits on the jump
+    # model exchange reads the fine reference linearly between its rows (a 60 s ramp at each jump)
+    tolerance = 1e-6 if fmi_type == "CoSimulation" else 2e-2
+    for name in ("P_el", "T_zone"):
+        np.testing.assert_allclose(held[name][inside], explicit[name][inside], rtol=tolerance, atol=1e-6)
+    assert np.abs(held["P_el"] - interpolated["P_el"]).max() > 100.0

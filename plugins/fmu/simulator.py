@@ -43,6 +43,11 @@ class FMUOptions(simgap.PluginOptions):
     """Fixed values for variables that are not tuned (set before initialisation)."""
     time_offset: float = 0.0
     """Seconds added to the case's time to get the model's time (e.g. seconds since 1 January)."""
+    inputs_as: Literal["instant", "mean_ending", "mean_starting"] = "instant"
+    """What a measured input sample is: the value at its time stamp (linear in between), or the
+    mean over the sample interval that ends there or starts there, held over that interval. A
+    logger's hourly means interpolated as instants would move a set-back step or the day's
+    solar gains by half an hour."""
     outputs_as: Literal["instant", "mean_ending", "mean_starting"] = "instant"
     """What an output at a measured time stamp is: the model's value at that instant, or its
     mean over the sample interval that ends there (meters) or starts there (loggers that stamp
@@ -182,7 +187,7 @@ class FMUSimulator(simgap.Simulator):
     def _prepare_case(self, rt, case: simgap.SimulationCase) -> _PreparedCase:
         step = self._step_size(case)
         input_names = tuple(case.inputs)
-        key = (case.key, step, self.options.time_offset, input_names, tuple(case.outputs))
+        key = (case.key, step, self.options.time_offset, self.options.inputs_as, input_names, tuple(case.outputs))
         prepared = rt.prepared_cases.get(key)
         if prepared is not None:
             rt.prepared_cases.move_to_end(key)
@@ -198,7 +203,7 @@ class FMUSimulator(simgap.Simulator):
         input_values = np.empty((n + 1, len(input_names)))
         input_time = np.asarray(case.input_time, dtype=float)
         for j, name in enumerate(input_names):
-            input_values[:, j] = np.interp(grid, input_time, np.asarray(case.inputs[name], dtype=float))
+            input_values[:, j] = input_on_grid(grid, input_time, np.asarray(case.inputs[name], dtype=float), self.options.inputs_as)
         output_vr = np.array([self._output_reference(name) for name in case.outputs], dtype=np.uint32)
         output_time = np.asarray(case.output_time, dtype=float)
         rows = np.rint((output_time - float(case.start)) / step).astype(np.int64)
@@ -257,9 +262,12 @@ class FMUSimulator(simgap.Simulator):
             for name in case.inputs:
                 self._input_reference(name)
             dtype = [("time", np.float64)] + [(name, np.float64) for name in case.inputs]
-            signals = np.zeros(len(case.input_time), dtype=dtype)
-            signals["time"] = np.asarray(case.input_time, dtype=float) + offset
-            for name, values in case.inputs.items():
+            table = {name: held_table(np.asarray(case.input_time, dtype=float), np.asarray(values, dtype=float), self.options.inputs_as)
+                     for name, values in case.inputs.items()}
+            times = next(iter(table.values()))[0]
+            signals = np.zeros(len(times), dtype=dtype)
+            signals["time"] = times + offset
+            for name, (_, values) in table.items():
                 signals[name] = values
 
         timed_out = False
@@ -471,6 +479,38 @@ def _as_float(value) -> float | None:
 def _one_line(exc: BaseException) -> str:
     text = str(exc).strip() or type(exc).__name__
     return text.splitlines()[0]
+
+
+def input_on_grid(grid: np.ndarray, stamps: np.ndarray, values: np.ndarray, mode: str) -> np.ndarray:
+    """The input value applied over each communication step starting at ``grid``.
+
+    ``instant``: linear between stamps. ``mean_starting``: the sample whose interval
+    [stamp, next stamp) holds the step's start; ``mean_ending``: the one whose interval
+    (previous stamp, stamp] does, i.e. the first stamp after the step's start.
+    """
+    if mode == "instant" or len(stamps) < 2:
+        return np.interp(grid, stamps, values)
+    if mode == "mean_starting":
+        k = np.searchsorted(stamps, grid + 1e-9, side="right") - 1
+    else:
+        k = np.searchsorted(stamps, grid + 1e-9, side="right")
+    return values[np.clip(k, 0, len(stamps) - 1)]
+
+
+def held_table(stamps: np.ndarray, values: np.ndarray, mode: str) -> tuple[np.ndarray, np.ndarray]:
+    """An input table for fmpy (linear between rows, a repeated time is a jump) that holds each
+    interval mean over its interval."""
+    if mode == "instant" or len(stamps) < 2:
+        return stamps, values
+    if mode == "mean_starting":
+        # v0 over [t0, t1), v1 over [t1, t2), ...: rows (t0, v0), (t1, v0), (t1, v1), (t2, v1), ...
+        times = np.repeat(stamps, 2)[1:]
+        held = np.repeat(values, 2)[:-1]
+        return times, held
+    # v1 over (t0, t1], v2 over (t1, t2], ...; v0 before t0
+    times = np.repeat(stamps, 2)[:-1]
+    held = np.repeat(values, 2)[1:]
+    return times, held
 
 
 def interval_means(time: np.ndarray, values: np.ndarray, stamps: np.ndarray, mode: str) -> np.ndarray:
