@@ -44,6 +44,22 @@ def test_shift_test_keeps_autocorrelation_honest():
     assert np.corrcoef(fitted, signal)[0, 1] > 0.8
 
 
+def test_shift_test_on_a_short_record():
+    """100 samples allow 79 shifts, so counting them cannot give p < 1/80; beyond the last
+    shift a fitted tail takes over, without calling independent series significant."""
+    rng = np.random.default_rng(5)
+    n = 100
+    false = 0
+    for _ in range(200):
+        r, x = _ar1(n, 0.5, rng), _ar1(n, 0.5, rng)
+        false += shift_test(r - r.mean(), (x - x.mean())[:, None])[2] < 0.01
+    assert false <= 6  # 1 % expected of 200
+    x = _ar1(n, 0.5, rng)
+    r = _ar1(n, 0.5, rng) + 0.8 * x
+    share, chance, p, _ = shift_test(r - r.mean(), (x - x.mean())[:, None])
+    assert p < 1.0 / 80 and p < 0.01
+
+
 def test_noise_floor_and_lag_and_cycles():
     rng = np.random.default_rng(1)
     t = np.arange(0, 20000.0, 10.0)

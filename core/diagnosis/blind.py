@@ -29,6 +29,9 @@ BLIND_TUNERS: dict[str, dict[str, float]] = {
 # 45 degC is never reached by the bench's heating curve, so the data would hold no effect).
 VISIBLE_STRENGTH: dict[str, dict[str, dict[str, float]]] = {
     "air_source_hp": {"cycling": {"TCycOff": 309.15, "dTCycHys": 4.0}},
+    # hourly means hide a 10-min sensor lag (its trace in the hourly supply temperature is
+    # below the noise); a slow sensor well in a thick pipe shows
+    "water_to_water_hp": {"sensor_lag": {"tauSensor": 2400.0}},
 }
 
 _WORKFLOW_SHAPE = {
@@ -46,16 +49,25 @@ _WORKFLOW_SHAPE = {
     ),
     "water_to_water_hp": dict(
         targets=[("PEl_W", ["cvrmse"]), ("TSup_K", ["rmse"])],
-        warmup="1d",
-        resolution="5min",
-        # 5-min interval means of a simulation stepped at 1 min (as the data were made); an
-        # instant sample every 5 min put even the true model at a power CV(RMSE) of 0.37
-        simulator={"outputs_as": "mean_starting", "step_size": 60.0},
+        # hourly means, as a monitoring system logs them (paper B's "hr"). At 5 min the on/off
+        # cycles of this unit carry a phase that a segment restarted after a warm-up does not
+        # share with the continuous record: even the true model with the effect scored a power
+        # CV(RMSE) of 0.13-0.66 there, burying every effect. Hourly, it scores 0.05-0.08.
+        resolution=3600.0,
+        warmup="2d",
+        # hourly input means held over their hour (interpolated as instants they move the night
+        # set-back and the solar gains by half an hour), outputs as hourly means of 1-min steps
+        simulator={"outputs_as": "mean_starting", "inputs_as": "mean_starting", "step_size": 60.0},
         seasons=("winter",),
-        days=4,
+        days=12,
+        # the first two days only warm up the training segment (the slab's time constant is days)
+        segments={"training": {"start": "16.67%", "end": "58.33%"}, "validation": {"start": "58.33%", "end": "100%"}},
         noise={"TSup_K": 0.05, "PEl_W": 100.0},
     ),
 }
+
+
+_SEGMENTS = {"training": {"start": "2%", "end": "50%"}, "validation": {"start": "50%", "end": "100%"}}
 
 
 @dataclass
@@ -112,16 +124,13 @@ def write_case(case: BlindCase, folder: Path) -> Path:
         "data": {
             "file": data.data_path.name,
             "time": "time",
-            "segments": {
-                "training": {"start": "2%", "end": "50%"},
-                "validation": {"start": "50%", "end": "100%"},
-                "warmup": shape["warmup"],
-            },
+            "segments": {**shape.get("segments", _SEGMENTS), "warmup": shape["warmup"]},
         },
         "simulator": {
             "plugin": "fmu",
             "options": {"source": str(synth.models_dir() / spec.folder), **shape.get("simulator", {})},
             "inputs": inputs,
+            **({"initial": shape["initial"]} if "initial" in shape else {}),
         },
         "parameters": parameters,
         "targets": [
