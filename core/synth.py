@@ -458,7 +458,7 @@ def _run_air_source(fmu: Path, weather: pd.DataFrame, start_values: Mapping[str,
     controller follows a heating curve (45 degC flow at -12 degC, 25 degC at 18 degC) with a PI
     compressor speed between 25 and 100 %, starts 1 K below the set point after at least 10 min
     off and stops 3 K above it after at least 10 min on; fan and loading pump run with the
-    compressor.
+    compressor. The recorded fan speed is the fan's own: 0 while the unit defrosts.
     """
     step = 1.0
     t = np.arange(weather.index[0], weather.index[-1] + step, step)
@@ -485,6 +485,7 @@ def _run_air_source(fmu: Path, weather: pd.DataFrame, start_values: Mapping[str,
         stepper.initialise({"TEva_K": t_oda[0], "THCRet_K": t_ret})
         vr_in = [stepper.vr[n] for n in inputs]
         vr_out = [stepper.vr[n] for n in _AIR_OUTPUTS]
+        defrosting = _AIR_OUTPUTS.index("defrosting_1")
         slave = stepper.slave
         out = slave.getReal(vr_out)
         for k in range(len(t)):
@@ -511,6 +512,8 @@ def _run_air_source(fmu: Path, weather: pd.DataFrame, start_values: Mapping[str,
             slave.doStep(currentCommunicationPoint=float(t[k]), communicationStepSize=step)
             out = slave.getReal(vr_out)
             record[k, : len(inputs)] = u
+            # the fan speed a logger sees: the unit stops its fan while it defrosts
+            record[k, 0] = u[0] * (1.0 - out[defrosting])
             record[k, len(inputs):] = out
     except ModelError:
         raise

@@ -136,6 +136,26 @@ def test_defrost_makes_periodic_dips_at_cold_humid_conditions_only(fmus):
     assert base["defrosting_1"].max() == 0.0
 
 
+def test_defrost_from_fan_follows_the_logged_fan_stops(fmus):
+    """With defrostFromFan the defrosts are where the fan input stops while the compressor runs
+    (as a logged fan speed shows them), not where a frost counter would put them."""
+    params = {"useDefrost": 1.0, "defrostFromFan": 1.0, "tDefrostInterval": 1200.0}
+
+    def fan(t):  # stopped for 200 s twice while the compressor runs, and once while it is off
+        return np.where(((t >= 1500) & (t < 1700)) | ((t >= 2800) & (t < 3000)) | (t >= 4000), 0.0, 1.0)
+
+    logged = air_run(fmus, params, stop=5400.0, TEva_K=274.15, relHumOda_1=0.95, nSpeedFanEva_1_0=fan)
+    defrosting = logged["defrosting_1"] > 0.5
+    t = logged["time"]
+    # outputs at t are from the step that ends at t
+    expected = (((t > 1500) & (t <= 1700)) | ((t > 2800) & (t <= 3000))) & (t <= STOP)
+    np.testing.assert_array_equal(defrosting, expected)
+    assert np.all(logged["QCon_W"][defrosting] < 0)
+    # dry air: the log still decides (the counter would never defrost there)
+    dry = air_run(fmus, params, stop=5400.0, TEva_K=274.15, relHumOda_1=0.4, nSpeedFanEva_1_0=fan)
+    np.testing.assert_array_equal(dry["defrosting_1"] > 0.5, expected)
+
+
 def _runs(flag, time, step=1.0):
     """Lengths (s) of on and off periods of a 0/1 series, leaving out the first and last."""
     edges = np.flatnonzero(np.diff(flag) != 0)

@@ -25,7 +25,7 @@ from ..results import PARAM, WORKFLOW, Run, load_run
 from ..setup import Prepared, prepare
 from ..yamlfile import read_yaml
 
-ROLES = ("compressor", "outdoor_temperature", "humidity", "flow", "power")
+ROLES = ("compressor", "outdoor_temperature", "humidity", "flow", "power", "fan")
 
 
 class Budget(BaseModel):
@@ -240,6 +240,7 @@ _ROLE_PATTERNS = {
     "humidity": r"relhum|humidity|\brh\b|phi_?oda",
     "flow": r"m_?flow|mflow|flow_?kg|vflow|v_?flow",
     "power": r"pel|p_?el|power|^p_|_w$",
+    "fan": r"fan",
 }
 
 

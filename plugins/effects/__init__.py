@@ -201,7 +201,8 @@ class Cycling(_SwitchEffect):
 class Defrost(_SwitchEffect):
     name = "defrost"
     description = "reverse-cycle defrost of the outdoor coil in cold, humid air"
-    evidence = "periodic dips of the water temperature and missing fan power, only while running at about -12..+7 degC in humid air"
+    evidence = ("periodic dips of the water temperature and missing fan power, only while running at about -12..+7 degC in "
+                "humid air; where the fan speed is logged, at the samples with the fan stopped while the compressor runs")
     switch = "useDefrost"
     tuners = (
         P("tDefrostInterval", 2400.0, 900.0, 7200.0, "s", "log"),
@@ -210,8 +211,31 @@ class Defrost(_SwitchEffect):
     )
     needs = ("compressor", "outdoor_temperature")
 
+    @staticmethod
+    def _fan_stops(data) -> np.ndarray | None:
+        """Share of each sample with the fan stopped while the compressor runs (a logged defrost)."""
+        fan = data.role("fan")
+        on = _running(data)
+        if fan is None or on is None:
+            return None
+        stopped = on * np.clip((0.2 - np.asarray(fan, dtype=float)) / 0.2, 0.0, 1.0)
+        return stopped if np.nansum(stopped) > 0 else None
+
+    def addition(self, data):
+        stops = self._fan_stops(data)
+        if stops is not None and "defrostFromFan" in data.variables and self.switch in data.variables:
+            # the log shows when each defrost ran: take the timing from it, tune only the heat drawn
+            fixed = super().addition(data)
+            kept = tuple(p for p in (fixed.parameters if fixed else ()) if p.name == "fDefrostQ")
+            if kept:
+                return simgap.EffectAddition(switch={self.switch: 1.0, "defrostFromFan": 1.0}, parameters=kept)
+        return super().addition(data)
+
     def signature(self, data):
         on = _running(data)
+        stops = self._fan_stops(data)
+        if stops is not None:
+            return {"fan stopped while running": stops}
         t_out = np.asarray(data.role("outdoor_temperature"), dtype=float) - 273.15
         humidity = data.role("humidity")
         wet = np.ones_like(t_out) if humidity is None else np.clip((np.asarray(humidity) - 0.6) / 0.3, 0.0, 1.0)

@@ -150,7 +150,11 @@ static void substep(double *r, State *s, double h) {
 
     /* defrost: frost grows while running in cold humid air; a defrost reverses the cycle */
     double relHum = R(relHumOda_1) >= 0 ? R(relHumOda_1) : R(relHumOdaFix);
-    if (R(useDefrost) > 0.5 && s->compressorOn) {
+    int fanDriven = R(useDefrost) > 0.5 && R(defrostFromFan) > 0.5;
+    if (fanDriven) {
+        /* the logged fan stop marks each defrost: no hidden frost state to guess */
+        s->defrostLeft = s->compressorOn && R(nSpeedFanEva_1_0) < 0.02 ? h : 0.0;
+    } else if (R(useDefrost) > 0.5 && s->compressorOn) {
         if (s->defrostLeft <= 0) {
             s->frost += h * frost_rate(TOdaDegC, relHum) / R(tDefrostInterval);
             if (s->frost >= 1.0) { s->frost = 0.0; s->defrostLeft = R(tDefrost); }

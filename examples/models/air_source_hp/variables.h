@@ -70,7 +70,8 @@
 #define V_useBackupHeater 64
 #define V_TOdaBackup 65
 #define V_PBackup 66
-#define N_REALS 67
+#define V_defrostFromFan 67
+#define N_REALS 68
 const char MODEL_GUID[] = "{3f2b90ee-68c4-736c-aec5-449849c5f763}";
 const unsigned MODEL_N_REALS = N_REALS;
 const double MODEL_START[N_REALS] = {
@@ -141,6 +142,7 @@ const double MODEL_START[N_REALS] = {
     0.0, /* useBackupHeater */
     271.15, /* TOdaBackup */
     3000.0, /* PBackup */
+    0.0, /* defrostFromFan */
 };
-const char MODEL_CAUSALITY[N_REALS + 1] = "iiiiiiioooooooooooooopppppppppppppppppppppppppppppppppppppppppppppp";
+const char MODEL_CAUSALITY[N_REALS + 1] = "iiiiiiiooooooooooooooppppppppppppppppppppppppppppppppppppppppppppppp";
 #endif
