@@ -46,6 +46,11 @@ class Candidate:
     """Validation-gap shrink once recalibrated with the effect (None: not recalibrated)."""
     shrink_vs_control: float | None = None
     """The same, against a re-tuning without any effect (what the effect itself adds)."""
+    beyond_first: float | None = None
+    """For an effect confirmed besides a better one: the further shrink when it is added on top
+    of that one (None: not tested)."""
+    first: str | None = None
+    """The better-confirmed effect it was tested on top of."""
     min_shrink: float = 0.0
     confirm: bool = False
     """True when recalibrations confirm claims (a recalibration budget was given)."""
@@ -64,6 +69,8 @@ class Candidate:
             # for; an effect this model cannot take stays "possible, not confirmed"
             return not self.confirm
         confirming = self.shrink_vs_control if self.shrink_vs_control is not None else self.gap_shrink
+        if self.beyond_first is not None and not self.beyond_first >= self.min_shrink:
+            return False  # what it closes, the better effect closes already
         return confirming >= self.min_shrink
 
     def as_dict(self) -> dict:
@@ -81,6 +88,8 @@ class Candidate:
             "significant": self.significant,
             "gap_shrink": self.gap_shrink,
             "shrink_vs_control": self.shrink_vs_control,
+            "beyond_first": self.beyond_first,
+            "first": self.first,
             "claimed": self.claimed,
             "per_target": self.per_target,
         }

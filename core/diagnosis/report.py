@@ -245,6 +245,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
             f" ({_pct(c.shrink_vs_control)} beyond re-tuning)" if c.shrink_vs_control is not None else "")
         if c.gap_shrink is None and c.addition is None and c.significant and c.confirm:
             shrunk = "cannot be added to this model: possible, not confirmed"
+        if c.beyond_first is not None:
+            shrunk += f"; on top of {c.first}: {_pct(c.beyond_first)} more"
         lines.append(
             f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
             f"{'**yes**' if c.claimed else 'no'} | {c.description} |"
@@ -294,6 +296,12 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
             lines += ["", f"The validation data hold almost none of what this effect changes, so it is confirmed on the training "
                       f"data: gap shrink there {_pct(s.get('gap_shrink_training'))}, beyond re-tuning alone "
                       f"{_pct(s.get('gap_shrink_vs_control_training'))}."]
+        if s.get("on_top_of"):
+            lines += ["", f"Added on top of **{s['on_top_of']}** (both effects, recalibrated together): the gap shrinks "
+                      f"**{_pct(s.get('gap_shrink_vs_control'))}** beyond {s['on_top_of']} alone "
+                      f"(training {_pct(s.get('gap_shrink_vs_control_training'))}); it is claimed only if that reaches "
+                      f"the confirmation threshold.", ""]
+            continue
         vs = s.get("gap_shrink_vs_control")
         lines += ["", f"Gap shrink (the error above the sensor-noise floor, weighted by where the effect's signature acts): "
                   f"**{_pct(s['gap_shrink'])}**" + (f"; beyond re-tuning alone (the control): **{_pct(vs)}**" if vs is not None else "")

@@ -52,6 +52,38 @@ def confirm_order(candidates: list[Candidate]) -> list[Candidate]:
     return tested + rest
 
 
+def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folder: Path, say) -> list[dict]:
+    """Every further confirmed effect recalibrated together with the best-confirmed one, and
+    claimed only if it shrinks the gap beyond that one alone: two effects that both explain the
+    slow flow temperature after a stop must not both be claimed for one cause."""
+    confirmed = [c for c in candidates if c.claimed]
+    if len(confirmed) < 2:
+        return []
+    first = confirmed[0]
+    first_result = next((r for r in results if r.get("effect") == first.name and "after" in r), None)
+    if first_result is None:
+        return []
+    out = []
+    for cand in confirmed[1:]:
+        name = f"{first.name}+{cand.name}"
+        say(f"recalibrating with {cand.name} on top of {first.name}")
+        both = EffectAddition(switch={**first.addition.switch, **cand.addition.switch},
+                              parameters=tuple(first.addition.parameters) + tuple(cand.addition.parameters))
+        cand_result = next((r for r in results if r.get("effect") == cand.name), {})
+        # start where each effect's own recalibration ended: its parameters, the first's tuners
+        start = {**cand_result.get("parameters", {}), **first_result.get("parameters", {})}
+        start.update({p.name: cand_result.get("effect_parameters", {}).get(p.name, p.default) for p in cand.addition.parameters})
+        weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
+        result = recalibrate(ctx, name, both, folder / "recalibration" / name, weights, control=first_result, start=start)
+        result["on_top_of"] = first.name
+        cand.first = first.name
+        beyond = result.get("gap_shrink_vs_control_training" if cand_result.get("confirmed_on") == "training" else "gap_shrink_vs_control")
+        cand.beyond_first = float(beyond) if beyond is not None else float("nan")
+        say(f"  {cand.name} on top of {first.name}: gap shrink beyond {first.name} alone {cand.beyond_first:.0%}")
+        out.append(result)
+    return out
+
+
 def diagnose(
     run_dir,
     *,
@@ -110,6 +142,8 @@ def diagnose(
             cand.gap_shrink = float("nan")
             say(f"  {cand.name}: {result['error']}")
         shrink.append(result)
+    candidates = confirm_order(candidates)
+    shrink += on_top_of_first(ctx, candidates, shrink, folder, say)
     candidates = confirm_order(candidates)
     if control is not None:
         shrink.insert(0, control)
