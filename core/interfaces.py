@@ -247,7 +247,8 @@ class DiagnosisData:
     series fed to the model, by model variable name; ``simulated`` the simulated targets, by
     target name. ``roles`` says which of these series plays a role an effect may need
     (``"compressor"``: running fraction 0..1, ``"outdoor_temperature"`` in K, ``"humidity"``
-    0..1, ``"flow"``: heating-circuit mass flow, ``"power"``: electric power, ``"temperature"``:
+    0..1, ``"flow"``: heating-circuit mass flow, ``"power"``: electric power, ``"fan"``: the
+    outdoor-coil fan speed 0..1 as logged, ``"temperature"``:
     the first water-temperature target): see :meth:`role`. Measured targets are deliberately
     not here: a signature built from them would explain any residual of that target.
     """
