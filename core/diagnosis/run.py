@@ -65,7 +65,7 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         return []
     out = []
     for cand in confirmed[1:]:
-        name = f"{first.name}+{cand.name}"
+        name = f"{first.name}_and_{cand.name}"
         say(f"recalibrating with {cand.name} on top of {first.name}")
         both = EffectAddition(switch={**first.addition.switch, **cand.addition.switch},
                               parameters=tuple(first.addition.parameters) + tuple(cand.addition.parameters))
@@ -78,8 +78,11 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         result["on_top_of"] = first.name
         cand.first = first.name
         beyond = result.get("gap_shrink_vs_control_training" if cand_result.get("confirmed_on") == "training" else "gap_shrink_vs_control")
-        cand.beyond_first = float(beyond) if beyond is not None else float("nan")
-        say(f"  {cand.name} on top of {first.name}: gap shrink beyond {first.name} alone {cand.beyond_first:.0%}")
+        if beyond is None:  # the joint recalibration failed: the test says nothing either way
+            say(f"  {cand.name} on top of {first.name}: {result.get('error', 'no result')}")
+        else:
+            cand.beyond_first = float(beyond)
+            say(f"  {cand.name} on top of {first.name}: gap shrink beyond {first.name} alone {cand.beyond_first:.0%}")
         out.append(result)
     return out
 
