@@ -16,6 +16,8 @@ Null cases (nothing withheld) must claim nothing. Seeds, noise levels, strengths
     python benchmarks/diagnosis_blind.py                 # the full table (about 1 h on 2 cores)
     python benchmarks/diagnosis_blind.py --quick         # one case per effect and model + a null case each (about 9 min)
     python benchmarks/diagnosis_blind.py --models water_to_water_hp --out /tmp/blind
+    python benchmarks/diagnosis_blind.py --combinations  # two effects withheld at once (top-1: the
+                                                         # first claim is one of them; top-3 column: both claimed)
 """
 
 from __future__ import annotations
@@ -46,6 +48,19 @@ def cases(models: list[str], quick: bool) -> list[BlindCase]:
     return out
 
 
+# two effects withheld at once: one that acts at starts and one that acts all the time, or two
+# with overlapping signatures (the diagnosis should claim both, the better one first)
+COMBINATIONS = {
+    "air_source_hp": [("heat_loss", "start_up_lag"), ("sensor_lag", "backup_heater")],
+    "water_to_water_hp": [("heat_loss", "post_run")],
+}
+
+
+def combination_cases(models: list[str]) -> list[BlindCase]:
+    return [BlindCase(model, first, also=(second,), seed=201 + i)
+            for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
+
+
 def _variant(model: str, effect: str, i: int) -> dict[str, float]:
     """A stronger (even i) or weaker (odd i) setting of the effect's first parameter."""
     from simgap.diagnosis.blind import VISIBLE_STRENGTH
@@ -66,9 +81,11 @@ def main() -> None:
     parser.add_argument("--only", help="comma-separated effect names (and/or 'null')")
     parser.add_argument("--out", type=Path, help="folder for the cases (default: a temporary folder)")
     parser.add_argument("--candidates", type=int, default=3)
+    parser.add_argument("--combinations", action="store_true", help="only the cases that withhold two effects at once")
     args = parser.parse_args()
     root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
-    todo = cases(args.models.split(","), args.quick)
+    models = args.models.split(",")
+    todo = combination_cases(models) if args.combinations else cases(models, args.quick)
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
@@ -82,6 +99,9 @@ def main() -> None:
             r = {"case": case.label, "model": case.model, "effect": case.effect, "error": f"{type(exc).__name__}: {exc}",
                  "top1": False, "top3": False, "shrink": None, "closed": None, "claimed": [], "ranking": []}
         results.append(r)
+        if case.also:
+            r["effect"] = "+".join(case.withheld)
+            r["top1"], r["top3"] = r.get("first_claim_withheld", False), r.get("all_claimed", False)
         print(
             f"{r['case']:60s} claimed={','.join(r['claimed']) or '-':28s} top1={r['top1']!s:5s} top3={r['top3']!s:5s} "
             f"shrink={_pct(r['shrink'])} beyond={_pct(r.get('beyond_control'))} closed={_pct(r['closed'])} ranking={','.join(r['ranking'][:3])} {r.get('error', '')}",

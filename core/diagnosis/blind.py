@@ -76,6 +76,8 @@ class BlindCase:
     effect: str | None
     """The withheld effect; None for a null case."""
     strength: Mapping[str, float] = field(default_factory=dict)
+    also: tuple[str, ...] = ()
+    """Further effects withheld at the same time (a combination case), at their visible strength."""
     seed: int = 1
     seasons: tuple[str, ...] | None = None
     days: int | None = None
@@ -84,8 +86,12 @@ class BlindCase:
     generations: int = 6
 
     @property
+    def withheld(self) -> list[str]:
+        return ([self.effect] if self.effect else []) + list(self.also)
+
+    @property
     def label(self) -> str:
-        what = self.effect or "null"
+        what = "+".join(self.withheld) or "null"
         extra = ",".join(f"{k}={v:g}" for k, v in self.strength.items())
         return f"{self.model}:{what}{'(' + extra + ')' if extra else ''}:seed{self.seed}"
 
@@ -98,7 +104,10 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     spec = synth.MODELS[case.model]
     truth = dict(BLIND_TUNERS[case.model])
     strength = {**VISIBLE_STRENGTH.get(case.model, {}).get(case.effect or "", {}), **case.strength}
-    effects = {case.effect: strength} if case.effect else None
+    effects = {case.effect: strength} if case.effect else {}
+    for other in case.also:
+        effects[other] = dict(VISIBLE_STRENGTH.get(case.model, {}).get(other, {}))
+    effects = effects or None
     noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
     data = synth.write_dataset(
         folder / "measured.parquet",
@@ -173,6 +182,7 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     ranking = result["ranking"]
     claimed = result["claimed"]
     recal = next((r for r in result["recalibration"] if r["effect"] == case.effect), {})
+    withheld = case.withheld
     truth_shrink = recal.get("gap_shrink")
     beyond = recal.get("gap_shrink_vs_control")
     closed = _gap_closed(case, workflow, recal) if recal.get("after") else None
@@ -184,6 +194,10 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         "ranking": ranking,
         "top1": (claimed[:1] == [case.effect]) if case.effect else not claimed,
         "top3": (case.effect in ranking[:3]) if case.effect else not claimed,
+        # a combination: the first claim is one of the withheld effects, and every one of them is claimed
+        "withheld": withheld,
+        "first_claim_withheld": bool(claimed) and claimed[0] in withheld,
+        "all_claimed": bool(withheld) and set(withheld) <= set(claimed),
         "shrink": truth_shrink,
         "closed": closed,
         "beyond_control": beyond,
