@@ -60,6 +60,23 @@ def test_shift_test_on_a_short_record():
     assert p < 1.0 / 80 and p < 0.01
 
 
+def test_improvement_over_the_control_is_tested_against_chance():
+    from simgap.diagnosis.shrink import improvement_p_value
+
+    rng = np.random.default_rng(11)
+    n = 120
+    control = {"T": _ar1(n, 0.8, rng)}
+    # the same misfit, slightly rearranged: no real improvement
+    same = {"T": control["T"] * 0.98 + 0.2 * _ar1(n, 0.8, rng)}
+    assert improvement_p_value(same, control, {"T": 1.0}) > 0.05
+    # most of the misfit gone
+    better = {"T": 0.3 * control["T"] + 0.1 * rng.normal(size=n)}
+    assert improvement_p_value(better, control, {"T": 1.0}) < 0.01
+    # two targets: the best one counts, paid for by a factor of two
+    both = improvement_p_value({**better, "P": control["T"]}, {**control, "P": control["T"]}, {"T": 1.0, "P": 1.0})
+    assert both == pytest.approx(2 * improvement_p_value(better, control, {"T": 1.0}))
+
+
 def test_noise_floor_and_lag_and_cycles():
     rng = np.random.default_rng(1)
     t = np.arange(0, 20000.0, 10.0)

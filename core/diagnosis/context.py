@@ -52,6 +52,9 @@ class DiagnoseConfig(BaseModel):
     """Smallest chance-corrected share of the residual an effect must explain to be claimed."""
     min_shrink: float = Field(0.2, ge=0, le=1)
     """Smallest validation-gap shrink that confirms a significant effect once recalibrated."""
+    confirm_significance: float = Field(0.05, gt=0, lt=1)
+    """Largest p-value at which the recalibration's lower error than the control's counts (a
+    paired test of the squared errors that keeps their autocorrelation)."""
     window: str = "1h"
     """Length of the rolling-error window that localises the gap in time."""
     recalibrate: Budget = Field(default_factory=Budget)

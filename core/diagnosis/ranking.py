@@ -46,6 +46,9 @@ class Candidate:
     """Validation-gap shrink once recalibrated with the effect (None: not recalibrated)."""
     shrink_vs_control: float | None = None
     """The same, against a re-tuning without any effect (what the effect itself adds)."""
+    p_vs_control: float | None = None
+    """Chance that the recalibration's improvement over the control is noise (paired, HAC)."""
+    confirm_significance: float = 0.05
     beyond_first: float | None = None
     """For an effect confirmed besides a better one: the further shrink when it is added on top
     of that one (None: not tested)."""
@@ -71,6 +74,8 @@ class Candidate:
         confirming = self.shrink_vs_control if self.shrink_vs_control is not None else self.gap_shrink
         if self.beyond_first is not None and not self.beyond_first >= self.min_shrink:
             return False  # what it closes, the better effect closes already
+        if self.p_vs_control is not None and not self.p_vs_control <= self.confirm_significance:
+            return False  # the shrink is within what chance gives on this record
         return confirming >= self.min_shrink
 
     def as_dict(self) -> dict:
@@ -88,6 +93,7 @@ class Candidate:
             "significant": self.significant,
             "gap_shrink": self.gap_shrink,
             "shrink_vs_control": self.shrink_vs_control,
+            "p_vs_control": self.p_vs_control,
             "beyond_first": self.beyond_first,
             "first": self.first,
             "claimed": self.claimed,
@@ -351,5 +357,6 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         cand.p_value = float(min(1.0, min(ps) * len(ps))) if ps else 1.0
         cand.significant = cand.p_value <= config.significance and cand.share >= config.min_share
         cand.min_shrink = config.min_shrink
+        cand.confirm_significance = config.confirm_significance
     candidates.sort(key=lambda c: (not c.applicable, -c.share))
     return candidates

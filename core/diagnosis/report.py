@@ -148,7 +148,7 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "claimed": [c.name for c in claimed],
         "where": where,
         "ranking": [c.as_dict() for c in candidates],
-        "recalibration": shrink,
+        "recalibration": [{k: v for k, v in r.items() if not k.startswith("_")} for r in shrink],
         "settings": ctx.config.model_dump(),
         "timing": timing,
         "figures": figs,
@@ -232,7 +232,10 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
               "(autocorrelation kept). An effect is claimed at p ≤ "
               f"{ctx.config.significance:g} and share ≥ {ctx.config.min_share:.0%} (*significant*); the significant ones "
               f"are recalibrated with the effect added (part 3) and claimed only if the validation gap above the noise "
-              f"floor shrinks by at least {ctx.config.min_shrink:.0%} beyond what the same re-tuning without an effect achieves. The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
+              f"floor shrinks by at least {ctx.config.min_shrink:.0%} beyond what the same re-tuning without an effect achieves, "
+              f"that improvement is not chance (paired test of the squared errors against the control's, autocorrelation kept, "
+              f"p ≤ {ctx.config.confirm_significance:g}), and, beside a better-confirmed effect, it shrinks the gap further "
+              f"when added on top of that one. The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
     lines += ["| rank | effect | share | p | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
               "|---|---|---|---|---|---|---|---|---|"]
     rank = 0
@@ -242,7 +245,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         rank += 1
         per = "; ".join(f"{t}: {v['share']:.0%}, {v['p_value']:.2g}" for t, v in c.per_target.items())
         shrunk = "not recalibrated" if c.gap_shrink is None else _pct(c.gap_shrink) + (
-            f" ({_pct(c.shrink_vs_control)} beyond re-tuning)" if c.shrink_vs_control is not None else "")
+            f" ({_pct(c.shrink_vs_control)} beyond re-tuning" + (f", p = {c.p_vs_control:.2g}" if c.p_vs_control is not None else "") + ")"
+            if c.shrink_vs_control is not None else "")
         if c.gap_shrink is None and c.addition is None and c.significant and c.confirm:
             shrunk = "cannot be added to this model: possible, not confirmed"
         if c.beyond_first is not None:

@@ -77,11 +77,15 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         result = recalibrate(ctx, name, both, folder / "recalibration" / name, weights, control=first_result, start=start)
         result["on_top_of"] = first.name
         cand.first = first.name
-        beyond = result.get("gap_shrink_vs_control_training" if cand_result.get("confirmed_on") == "training" else "gap_shrink_vs_control")
+        on_training = cand_result.get("confirmed_on") == "training"
+        beyond = result.get("gap_shrink_vs_control_training" if on_training else "gap_shrink_vs_control")
+        p_beyond = result.get("p_vs_control_training" if on_training else "p_vs_control")
         if beyond is None:  # the joint recalibration failed: the test says nothing either way
             say(f"  {cand.name} on top of {first.name}: {result.get('error', 'no result')}")
         else:
-            cand.beyond_first = float(beyond)
+            significant = p_beyond is not None and p_beyond <= ctx.config.confirm_significance
+            # a further shrink that chance could give counts as none
+            cand.beyond_first = float(beyond) if significant else min(float(beyond), 0.0)
             say(f"  {cand.name} on top of {first.name}: gap shrink beyond {first.name} alone {cand.beyond_first:.0%}")
         out.append(result)
     return out
@@ -131,16 +135,19 @@ def diagnose(
         if "gap_shrink" in result:
             cand.gap_shrink = float(result["gap_shrink"])
             cand.shrink_vs_control = result.get("gap_shrink_vs_control")
+            cand.p_vs_control = result.get("p_vs_control")
             if acts_mostly_in_training(ctx, cand):
                 # the validation data hold (almost) none of what the effect changes (no start in
                 # them, no cold spell...): only the training data can confirm it
                 result["confirmed_on"] = "training"
                 cand.gap_shrink = result.get("gap_shrink_training", cand.gap_shrink)
                 cand.shrink_vs_control = result.get("gap_shrink_vs_control_training", cand.shrink_vs_control)
+                cand.p_vs_control = result.get("p_vs_control_training", cand.p_vs_control)
             else:
                 result["confirmed_on"] = "validation"
             say(f"  validation gap shrink with {cand.name}: {result['gap_shrink']:.0%} "
-                f"(beyond re-tuning alone: {cand.shrink_vs_control if cand.shrink_vs_control is not None else float('nan'):.0%})")
+                f"(beyond re-tuning alone: {cand.shrink_vs_control if cand.shrink_vs_control is not None else float('nan'):.0%}, "
+                f"p = {cand.p_vs_control if cand.p_vs_control is not None else float('nan'):.2g})")
         elif "error" in result:
             cand.gap_shrink = float("nan")
             say(f"  {cand.name}: {result['error']}")
