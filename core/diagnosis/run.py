@@ -70,12 +70,13 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         both = EffectAddition(switch={**first.addition.switch, **cand.addition.switch},
                               parameters=tuple(first.addition.parameters) + tuple(cand.addition.parameters))
         cand_result = next((r for r in results if r.get("effect") == cand.name), {})
-        # start at the first effect's own result with the second at the weak end of its ranges
-        # (the built-in effects' lower bounds): the first alone, nearly. Starting from the
+        # a local fit from the first effect's own result with the second at the weak end of its
+        # ranges (the built-in effects' lower bounds): the first alone, nearly. Starting from the
         # second's own fit counted twice what both had bent the tuners for (up to 2.7 times the
-        # first's gap in the combination cases).
+        # first's gap in the combination cases); the narrowed search alone did not move off it.
         start = dict(first_result.get("parameters", {}))
         start.update({p.name: p.lower for p in cand.addition.parameters})
+        start = local_fit(ctx, None, both, start=start)
         weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
         result = recalibrate(ctx, name, both, folder / "recalibration" / name, weights, control=first_result, start=start)
         result["on_top_of"] = first.name

@@ -96,10 +96,11 @@ def local_fit(
     addition=None,
     responses: list[tuple[dict[str, float], dict[str, np.ndarray]]] | None = None,
     iterations: int = 10,
+    start: dict[str, float] | None = None,
 ) -> dict[str, float]:
     """Tuners (and the effect's parameters) after a few bounded least-squares iterations.
 
-    Starts at :func:`linear_start` and fits the training series only, so the validation data
+    Starts at :func:`linear_start` (or at ``start``) and fits the training series only, so the validation data
     that confirm the effect stay unseen. Targets are weighted
     by the size of their residual at the solution. The linear step alone stops at its
     ``MAX_STEP``; a base calibration that pinned tuners to their bounds to imitate the effect
@@ -110,7 +111,10 @@ def local_fit(
 
     from .context import simulate
 
-    tuners, setting = linear_start(ctx, nuisance, responses)
+    if start is None:
+        tuners, setting = linear_start(ctx, nuisance, responses)
+        start = {**tuners, **setting}
+    start = dict(start)
     switch = dict(addition.switch) if addition is not None else {}
     dims = []  # (name, lower, upper, log)
     space = ctx.prepared.space
@@ -118,7 +122,6 @@ def local_fit(
         dims.append((name, float(space.lower[j]), float(space.upper[j]), bool(space.log[j])))
     for p in addition.parameters if addition is not None else ():
         dims.append((p.name, float(p.lower), float(p.upper), p.scale == "log" and p.lower > 0))
-    start = {**tuners, **setting}
 
     def to_unit(name, lo, hi, log):
         v = start.get(name, ctx.parameters.get(name, lo))
