@@ -221,15 +221,14 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
 
 def _versus(mine: dict, control: dict, weights: dict) -> tuple[dict, float]:
     vs = {}
-    if True:
-        for t, v in mine.items():
-            c = control.get(t)
-            if not c:
-                continue
-            sigma = min(v["noise"], c["noise"])
-            gap_c = math.sqrt(max(c["rmse_after"] ** 2 - sigma**2, 0.0))
-            gap_a = math.sqrt(max(v["rmse_after"] ** 2 - sigma**2, 0.0))
-            vs[t] = 1.0 - gap_a / gap_c if gap_c > 0 else math.nan
+    for t, v in mine.items():
+        c = control.get(t)
+        if not c:
+            continue
+        sigma = min(v["noise"], c["noise"])
+        gap_c = math.sqrt(max(c["rmse_after"] ** 2 - sigma**2, 0.0))
+        gap_a = math.sqrt(max(v["rmse_after"] ** 2 - sigma**2, 0.0))
+        vs[t] = 1.0 - gap_a / gap_c if gap_c > 0 else math.nan
     return vs, gap_shrink(vs, weights)
 
 
