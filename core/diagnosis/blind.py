@@ -223,8 +223,7 @@ def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
     prepared = prepare(workflow)
     # the truth in the form the recalibrated model took the effect (e.g. defrosts from the
     # logged fan stops rather than from a frost counter the data cannot start)
-    switches = _recalibration_switches(recal)
-    row = evaluate(prepared.validation, -1, {**truth["parameters"], **switches})
+    row = evaluate(prepared.validation, -1, {**truth["parameters"], **recal.get("switch", {})})
     if row["errors"] is None:
         return None
     gained = avoidable = 0.0
@@ -237,17 +236,3 @@ def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
         avoidable += max(before - floor, 0.0) / before
     return gained / avoidable if avoidable > 0.02 else None
 
-
-def _recalibration_switches(recal: dict) -> dict[str, float]:
-    """The switch values the recalibration's derived workflow set (its ``start_values``)."""
-    run = recal.get("run")
-    if not run:
-        return {}
-    from ..results import WORKFLOW
-
-    copy = Path(run) / WORKFLOW
-    if not copy.is_file():
-        return {}
-    data = YAML(typ="safe").load(copy.read_text())
-    values = ((data.get("simulator") or {}).get("options") or {}).get("start_values") or {}
-    return {k: float(v) for k, v in values.items()}

@@ -27,6 +27,9 @@ from .context import Context
 NARROW = 0.25
 CONTROL = "control"
 """Name of the recalibration without any effect (re-tuning alone)."""
+RESIDUALS = "_residuals"
+RESIDUALS_TRAINING = "_residuals_training"
+"""Keys of a recalibration result holding residual series (kept in memory, not written)."""
 
 
 def _absolute_paths(value, base: Path):
@@ -134,7 +137,7 @@ def recalibrate(
     from ..setup import prepare
 
     before = _before(ctx)
-    out: dict = {"effect": effect, "before": before}
+    out: dict = {"effect": effect, "before": before, "switch": dict(addition.switch)}
     if start:
         out["start"] = dict(start)
     try:
@@ -181,10 +184,6 @@ def recalibrate(
         out["p_vs_control_training"] = improvement_p_value(out[RESIDUALS_TRAINING], control.get(RESIDUALS_TRAINING, {}), weights)
     return out
 
-
-RESIDUALS = "_residuals"
-RESIDUALS_TRAINING = "_residuals_training"
-"""Keys of a recalibration result holding residual series (kept in memory, not written)."""
 
 
 def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarray], weights: dict[str, float]) -> float:

@@ -222,14 +222,12 @@ class Defrost(_SwitchEffect):
         return stopped if np.nansum(stopped) > 0 else None
 
     def addition(self, data):
-        stops = self._fan_stops(data)
-        if stops is not None and "defrostFromFan" in data.variables and self.switch in data.variables:
-            # the log shows when each defrost ran: take the timing from it, tune only the heat drawn
-            fixed = super().addition(data)
-            kept = tuple(p for p in (fixed.parameters if fixed else ()) if p.name == "fDefrostQ")
-            if kept:
-                return simgap.EffectAddition(switch={self.switch: 1.0, "defrostFromFan": 1.0}, parameters=kept)
-        return super().addition(data)
+        counter = super().addition(data)
+        if counter is None or "defrostFromFan" not in data.variables or self._fan_stops(data) is None:
+            return counter
+        # the log shows when each defrost ran: take the timing from it, tune only the heat drawn
+        kept = tuple(p for p in counter.parameters if p.name == "fDefrostQ")
+        return simgap.EffectAddition(switch={self.switch: 1.0, "defrostFromFan": 1.0}, parameters=kept) if kept else counter
 
     def signature(self, data):
         on = _running(data)
