@@ -132,6 +132,9 @@ class SimulatorConfig(Section):
     initial: dict[str, str] = Field(default_factory=dict)
     """Model parameter -> measured column whose value at each simulation start it takes
     (initial states such as a zone temperature, so each segment starts where the data does)."""
+    around: list[dict[str, Any]] = Field(default_factory=list)
+    """Effects applied around the model on its inputs and outputs (simgap.around): sensor lag,
+    offset/gain, clock shift, input gain, added load, on/off delays; validated there."""
 
 
 class Parameter(Section):

@@ -223,6 +223,9 @@ class EffectParameter:
     upper: float
     unit: str = ""
     scale: Literal["linear", "log"] = "linear"
+    neutral: float | None = None
+    """The value at which the effect does nothing (a gain of 1, an offset of 0); None: the
+    lower bound is the weak end."""
 
 
 @dataclass(frozen=True)
@@ -230,11 +233,15 @@ class EffectAddition:
     """How to add an effect to a model: parameter values to fix and new tuner parameters.
 
     ``switch`` holds fixed start values (for instance ``{"useStartUpLag": 1.0}``) and
-    ``parameters`` the effect's own tuners, searched alongside the model's tuners.
+    ``parameters`` the effect's own tuners, searched alongside the model's tuners; ``around``
+    applies generic effects around any simulator (parameters named there are tuners too).
     """
 
     switch: Mapping[str, float]
     parameters: tuple[EffectParameter, ...]
+    around: tuple[Mapping, ...] = ()
+    """Entries of ``simulator.around`` (see :mod:`simgap.around`) for an effect applied around
+    the simulator on its inputs or outputs, whatever the model: a sensor lag, a clock shift..."""
 
 
 @dataclass
@@ -262,6 +269,25 @@ class DiagnosisData:
     roles: Mapping[str, np.ndarray]
     variables: Mapping[str, Variable]
     """Every variable of the model (to tell whether a switch parameter exists)."""
+    target_variables: Mapping[str, str] = field(default_factory=dict)
+    """Target name -> the model output it is simulated by (an effect around the simulator
+    acts on the variable); a target missing here is its own variable."""
+    tuners: tuple[str, ...] = ()
+    """The calibration's tuner parameters (an effect whose parameters are among them is in the model)."""
+    fixed: Mapping[str, float] = field(default_factory=dict)
+    """Parameter values the workflow fixes (``simulator.options.start_values``): a switch already on."""
+    around: tuple[Mapping, ...] = ()
+    """The workflow's ``simulator.around`` entries (generic effects the calibration has already)."""
+
+    def variable_of(self, target: str) -> str:
+        return self.target_variables.get(target, target)
+
+    @property
+    def sample_interval(self) -> float:
+        """Median seconds between samples of one segment."""
+        same = np.diff(self.segment) == 0
+        dt = np.diff(self.time)[same]
+        return float(np.median(dt)) if dt.size else 60.0
 
     def role(self, name: str) -> np.ndarray | None:
         return self.roles.get(name)

@@ -79,11 +79,25 @@ def _build_simulator(wf: LoadedWorkflow, registry: Registry) -> Simulator:
     options = plugin_options(wf, cls, cfg.options, ("simulator",))
     context = PluginContext(base_dir=wf.base_dir, cache_dir=cache_dir(), source=wf.path.name)
     try:
-        return cls(options, context)
+        simulator = cls(options, context)
     except ConfigError:
         raise
     except SimgapError as exc:
         raise wf.error(("simulator", "options"), str(exc)) from None
+    return _around(wf, simulator) if cfg.around else simulator
+
+
+def _around(wf: LoadedWorkflow, simulator: Simulator) -> Simulator:
+    """The simulator with ``simulator.around`` applied (generic effects on inputs/outputs)."""
+    from .around import AroundSimulator, parse
+
+    try:
+        wrapped = AroundSimulator(simulator, parse(wf.model.simulator.around))
+    except ValidationError as exc:
+        raise validation_error(wf.doc, exc, prefix=("simulator", "around")) from None
+    for index, problem in wrapped.check():
+        raise wf.error(("simulator", "around", index), problem)
+    return wrapped
 
 
 def check_model(wf: LoadedWorkflow, simulator: Simulator) -> None:

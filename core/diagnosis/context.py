@@ -109,6 +109,7 @@ class Context:
             offset += int(p.segment.max()) + 1 if len(p.segment) else 0
         inputs = self.joined("inputs")
         sim = simulated if simulated is not None else self.joined("simulated")
+        model = self.prepared.wf.model
         return DiagnosisData(
             time=seconds - seconds[0],
             segment=np.concatenate(segments),
@@ -117,6 +118,10 @@ class Context:
             units=dict(self.units),
             roles=role_series(self.roles, inputs, sim),
             variables=self.prepared.simulator.variables(),
+            target_variables={t.name: t.simulated_variables[0] for t in model.targets},
+            tuners=tuple(self.prepared.space.names),
+            fixed=dict((model.simulator.options or {}).get("start_values") or {}),
+            around=tuple(dict(e) for e in model.simulator.around),
         )
 
 
@@ -180,9 +185,20 @@ def solution_parameters(run: Run, names: tuple[str, ...], solution) -> tuple[int
     return int(row["eval_id"]), {n: float(row[PARAM + n]) for n in names}
 
 
-def simulate(setup: EvaluationSetup, params: dict[str, float]) -> dict[str, np.ndarray] | None:
-    """Simulated target series for ``params`` (None if the simulation fails)."""
-    row = evaluate(setup, -1, params, keep_series=True)
+def with_addition(setup: EvaluationSetup, addition) -> EvaluationSetup:
+    """``setup`` whose simulator carries the addition's generic effects (``around``), if any."""
+    around = tuple(getattr(addition, "around", ()) or ())
+    if not around:
+        return setup
+    from ..around import wrap
+
+    return dataclasses.replace(setup, simulator=wrap(setup.simulator, [dict(e) for e in around]))
+
+
+def simulate(setup: EvaluationSetup, params: dict[str, float], addition=None) -> dict[str, np.ndarray] | None:
+    """Simulated target series for ``params`` (None if the simulation fails); ``addition``'s
+    generic effects applied around the simulator."""
+    row = evaluate(with_addition(setup, addition), -1, params, keep_series=True)
     if row["status"] != STATUS_OK:
         return None
     return {name: _first_column(values) for name, values in row["series"].items()}

@@ -57,6 +57,8 @@ class Candidate:
     min_shrink: float = 0.0
     confirm: bool = False
     """True when recalibrations confirm claims (a recalibration budget was given)."""
+    in_model: bool = False
+    """The model has this effect already (switch on or its parameters tuned): not screened."""
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     """Per target, the part of the residual the effect's features reproduce."""
     responses: list[tuple[dict[str, float], dict[str, np.ndarray]]] = field(default_factory=list, repr=False)
@@ -84,6 +86,7 @@ class Candidate:
             "description": self.description,
             "evidence": self.evidence,
             "applicable": self.applicable,
+            "in_model": self.in_model,
             "reason": self.reason,
             "can_add": self.addition is not None,
             "features": self.features,
@@ -238,10 +241,10 @@ def tuner_sensitivities(ctx: Context, step: float = 0.05) -> Nuisance:
     return Nuisance(out, steps)
 
 
-def _simulate_all(ctx: Context, params: dict[str, float]) -> dict[str, np.ndarray] | None:
+def _simulate_all(ctx: Context, params: dict[str, float], addition: EffectAddition | None = None) -> dict[str, np.ndarray] | None:
     parts = []
     for piece in ctx.pieces:
-        s = simulate(piece.setup, params)
+        s = simulate(piece.setup, params, addition)
         if s is None:
             return None
         parts.append(s)
@@ -269,7 +272,7 @@ def effect_responses(ctx: Context, addition: EffectAddition) -> list[tuple[dict[
     base = ctx.joined("simulated")
     out = []
     for values in effect_settings(addition):
-        series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values})
+        series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values}, addition)
         if series is not None:
             out.append((values, {t: series[t] - base[t] for t in ctx.targets}))
     return out
@@ -296,13 +299,32 @@ def switching_instants(data) -> dict[str, np.ndarray]:
     return out
 
 
+def in_the_model(addition: EffectAddition | None, data) -> str:
+    """Why the model has the effect already ('' if it has not): its switch is on, one of its
+    parameters is a tuner, or the same generic effect sits around the simulator."""
+    if addition is None:
+        return ""
+    on = [k for k, v in addition.switch.items()
+          if float(data.fixed.get(k, getattr(data.variables.get(k), "start", None) or 0.0)) == float(v)]
+    if addition.switch and len(on) == len(addition.switch):
+        return "in the model: " + ", ".join(f"{k} = {addition.switch[k]:g}" for k in on) + " already"
+    tuned = [p.name for p in addition.parameters if p.name in data.tuners]
+    if tuned:
+        return "in the model: " + ", ".join(tuned) + (" is" if len(tuned) == 1 else " are") + " already tuned"
+    have = {(e.get("apply"), e.get("variable")) for e in data.around}
+    same = [f"{e['apply']} on {e['variable']}" for e in addition.around if (e["apply"], e["variable"]) in have]
+    if same:
+        return "in the model: simulator.around has " + ", ".join(same) + " already"
+    return ""
+
+
 def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None = None) -> list[Candidate]:
     data = ctx.data()
     residual = ctx.residual
     config = ctx.config
     candidates: list[Candidate] = []
     # per target: mask, the residual cleared of offset and tuner sensitivities, its nuisance
-    prepared_targets = {}
+    prepared_targets, offset_targets = {}, {}
     instants = switching_instants(data)
     for t in ctx.targets:
         r = residual[t]
@@ -311,21 +333,30 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         _, N = _standardise(sens, mask)
         N = np.column_stack([np.ones(int(mask.sum())), N]) if N.size else np.ones((int(mask.sum()), 1))
         rt = _clear(r[mask][:, None], N)[:, 0]
+        # for an effect whose evidence is an offset (a sensor's), the constant stays in
+        N_kept = N[:, 1:]
         prepared_targets[t] = (mask, N, rt)
+        offset_targets[t] = (mask, N_kept, _clear(r[mask][:, None], N_kept)[:, 0])
     for effect in effects:
         reason = effect.applies(data)
         cand = Candidate(effect.name, effect.description, effect.evidence, applicable=reason is None, reason=reason or "")
         candidates.append(cand)
         if reason is not None:
             continue
-        features = dict(effect.signature(data))
         addition = effect.addition(data)
+        already = in_the_model(addition, data)
+        if already:
+            # re-adding it would name its parameters twice; it is reported, not screened
+            cand.applicable, cand.in_model, cand.reason = False, True, already
+            continue
+        features = dict(effect.signature(data))
         cand.addition = addition
         cand.responses = effect_responses(ctx, addition) if addition is not None else []
         responses = [change for _, change in cand.responses]
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
-        for t, (mask, N, rt) in prepared_targets.items():
+        by_target = offset_targets if getattr(effect, "keeps_offset", False) else prepared_targets
+        for t, (mask, N, rt) in by_target.items():
             if not responses and about is not None and t not in about:
                 continue
             # the simulated change is the sharper signature; the declared features stand in

@@ -68,14 +68,15 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         name = f"{first.name}_and_{cand.name}"
         say(f"recalibrating with {cand.name} on top of {first.name}")
         both = EffectAddition(switch={**first.addition.switch, **cand.addition.switch},
-                              parameters=tuple(first.addition.parameters) + tuple(cand.addition.parameters))
+                              parameters=tuple(first.addition.parameters) + tuple(cand.addition.parameters),
+                              around=tuple(first.addition.around) + tuple(cand.addition.around))
         cand_result = next((r for r in results if r.get("effect") == cand.name), {})
         # a local fit from the first effect's own result with the second at the weak end of its
         # ranges (the built-in effects' lower bounds): the first alone, nearly. Starting from the
         # second's own fit counted twice what both had bent the tuners for (up to 2.7 times the
         # first's gap in the combination cases); the narrowed search alone did not move off it.
         start = dict(first_result.get("parameters", {}))
-        start.update({p.name: p.lower for p in cand.addition.parameters})
+        start.update({p.name: p.lower if p.neutral is None else p.neutral for p in cand.addition.parameters})
         start = local_fit(ctx, None, both, start=start)
         weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
         result = recalibrate(ctx, name, both, folder / "recalibration" / name, weights, control=first_result, start=start)

@@ -52,8 +52,11 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
     data["data"]["file"] = str(wf.resolve(data["data"]["file"]))
     sim = data["simulator"]
     sim["options"] = _absolute_paths(sim.get("options") or {}, base)
-    sim["options"].setdefault("start_values", {})
-    sim["options"]["start_values"].update({k: float(v) for k, v in addition.switch.items()})
+    if addition.switch:
+        sim["options"].setdefault("start_values", {})
+        sim["options"]["start_values"].update({k: float(v) for k, v in addition.switch.items()})
+    if addition.around:
+        sim["around"] = list(sim.get("around") or []) + [dict(e) for e in addition.around]
     params = []
     for p in wf.model.parameters:
         value = start.get(p.name, ctx.parameters[p.name])
@@ -97,7 +100,7 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
     yaml.dump(data, buffer)
     path.write_text(
         f"# derived by simgap diagnose: {wf.path.name} with the effect '{effect}' added (switch "
-        + ", ".join(f"{k}={v:g}" for k, v in addition.switch.items())
+        + ", ".join([f"{k}={v:g}" for k, v in addition.switch.items()] + [f"around: {e['apply']} on {e['variable']}" for e in addition.around])
         + ")\n"
         + buffer.getvalue()
     )

@@ -146,7 +146,7 @@ def local_fit(
         params = {**ctx.parameters, **switch, **values(x)}
         parts = []
         for piece in training:
-            sim = simulate(piece.setup, params)
+            sim = simulate(piece.setup, params, addition)
             if sim is None:
                 return None
             for t in ctx.targets:

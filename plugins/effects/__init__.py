@@ -265,7 +265,9 @@ class BackupHeater(_SwitchEffect):
         return out
 
 
-EFFECTS = (StartUpLag, StartUpInertia, PostRun, SensorLag, HeatLoss, Cycling, Defrost, BackupHeater)
+from .generic import GENERIC  # noqa: E402  (after the helpers it shares nothing with)
+
+EFFECTS = (StartUpLag, StartUpInertia, PostRun, SensorLag, HeatLoss, Cycling, Defrost, BackupHeater) + GENERIC
 
 
 @simgap.hookimpl

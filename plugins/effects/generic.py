@@ -1,0 +1,236 @@
+"""Generic effects: added around any simulator, on its inputs or outputs (``simulator.around``).
+
+They need no switch in the model, so the diagnosis can test them on a zone model, an air
+handling unit, an EnergyPlus building or any FMU: a sensor's time constant, a sensor's offset
+and gain, a clock shift between the logger and the model, a gain error of a measured input, a
+heat loss or load the model lacks entered through an existing heat-flow input, and delays of a
+measured on/off input. Their tuners' ranges follow the data (sample interval, spread of the
+series), and each tuner has a neutral value at which the effect does nothing.
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+import simgap
+
+P = simgap.EffectParameter
+
+
+def _safe(name: str) -> str:
+    return re.sub(r"\W", "_", name)
+
+
+def _sensor_targets(data: simgap.DiagnosisData) -> list[str]:
+    """Temperatures first (a sensor mass lags), else every target."""
+    return list(data.temperature_targets) or list(data.simulated)
+
+
+def _looks_temperature(values: np.ndarray, unit: str) -> bool:
+    if unit in ("K", "degC"):
+        return True
+    mean = float(np.nanmean(values)) if np.isfinite(values).any() else 0.0
+    return 200.0 < mean < 420.0
+
+
+class _Around(simgap.Effect):
+    """An effect added through ``simulator.around`` entries."""
+
+    kind = ""
+
+    def entries(self, data) -> list[tuple[dict, tuple[simgap.EffectParameter, ...]]]:
+        """(around entry, its tuners) per variable the effect acts on."""
+        raise NotImplementedError
+
+    def addition(self, data):
+        pairs = self.entries(data)
+        if not pairs:
+            return None
+        return simgap.EffectAddition(
+            switch={}, parameters=tuple(p for _, ps in pairs for p in ps), around=tuple(e for e, _ in pairs)
+        )
+
+
+class SensorTimeConstant(_Around):
+    name = "sensor_time_constant"
+    description = "the sensor reads a simulated output through a first-order lag (sensor mass, sleeve, averaging logger)"
+    evidence = "residual follows the time derivative of the output: every rise and fall is measured late and smoothed"
+    acts_on = staticmethod(_sensor_targets)
+
+    def applies(self, data):
+        return None if data.simulated else "needs a target"
+
+    def entries(self, data):
+        dt = data.sample_interval
+        out = []
+        for t in _sensor_targets(data):
+            name = f"tauSensor_{_safe(t)}"
+            lower, upper = max(1.0, 0.05 * dt), max(3600.0, 20.0 * dt)
+            out.append(({"apply": "output_lag", "variable": data.variable_of(t), "tau": name},
+                        (P(name, 2.0 * dt, lower, upper, "s", "log", neutral=lower),)))
+        return out
+
+    def signature(self, data):
+        return {f"d{t}/dt": data.derivative(np.asarray(data.simulated[t], dtype=float)) for t in _sensor_targets(data)}
+
+
+class SensorOffsetGain(_Around):
+    name = "sensor_offset_gain"
+    description = "the sensor or meter of a target reads with an offset and a gain error"
+    evidence = "a constant bias, or an error proportional to the value, that re-tuning the model cannot reproduce"
+    keeps_offset = True
+    """The screening keeps the constant in the residual: an offset is this effect's evidence."""
+
+    def applies(self, data):
+        return None if data.simulated else "needs a target"
+
+    def entries(self, data):
+        out = []
+        for t in data.simulated:
+            values = np.asarray(data.simulated[t], dtype=float)
+            temperature = _looks_temperature(values, data.units.get(t, ""))
+            reference = 273.15 if temperature and float(np.nanmean(values)) > 200.0 else 0.0
+            spread = float(np.nanstd(values)) or 1.0
+            size = 2.0 if temperature else max(spread, 0.2 * float(np.nanmean(np.abs(values))))
+            offset, gain = f"offset_{_safe(t)}", f"gain_{_safe(t)}"
+            out.append(({"apply": "output_offset_gain", "variable": data.variable_of(t), "offset": offset, "gain": gain,
+                         "reference": reference},
+                        (P(offset, 0.0, -size, size, "", neutral=0.0), P(gain, 1.0, 0.8, 1.2, "", neutral=1.0))))
+        return out
+
+    def signature(self, data):
+        return {f"{t}": np.asarray(data.simulated[t], dtype=float) for t in data.simulated}
+
+
+class ClockShift(_Around):
+    name = "clock_shift"
+    description = "the logger's clock and the model's time differ by a constant shift"
+    evidence = "every change of every target appears early or late by the same time; the best lag of the residual is not zero"
+
+    def applies(self, data):
+        return None if data.simulated else "needs a target"
+
+    def entries(self, data):
+        dt = data.sample_interval
+        span = 4.0 * dt
+        name = "clockShift"
+        param = (P(name, 0.0, -span, span, "s", neutral=0.0),)
+        variables = list(dict.fromkeys(data.variable_of(t) for t in data.simulated))
+        # one shift for every target; its tuner is listed once
+        return [({"apply": "output_shift", "variable": v, "seconds": name}, param if i == 0 else ()) for i, v in enumerate(variables)]
+
+    def signature(self, data):
+        return {f"d{t}/dt": data.derivative(np.asarray(data.simulated[t], dtype=float)) for t in data.simulated}
+
+
+class InputGainError(_Around):
+    name = "input_gain_error"
+    description = "a measured input fed to the model is off by a factor (a meter's calibration, a wrong conversion)"
+    evidence = "the residual grows in proportion to an input (solar or internal gains, a flow, a control signal)"
+
+    @staticmethod
+    def _inputs(data):
+        return [name for name, values in data.inputs.items()
+                if not _looks_temperature(np.asarray(values, dtype=float), getattr(data.variables.get(name), "unit", "") or "")
+                and float(np.nanstd(values)) > 0]
+
+    def applies(self, data):
+        return None if self._inputs(data) else "needs a measured input that is not a temperature"
+
+    def entries(self, data):
+        out = []
+        for name in self._inputs(data):
+            gain = f"inputGain_{_safe(name)}"
+            out.append(({"apply": "input_gain", "variable": name, "gain": gain}, (P(gain, 1.0, 0.6, 1.4, "", neutral=1.0),)))
+        return out
+
+    def signature(self, data):
+        return {name: np.asarray(data.inputs[name], dtype=float) for name in self._inputs(data)}
+
+
+class ExtraHeatLoad(_Around):
+    name = "extra_heat_load"
+    description = "a heat loss or load the model lacks (constant, or in proportion to the outdoor temperature), entered through a heat-flow input"
+    evidence = "the residual follows the outdoor temperature or holds a constant bias that the model's own parameters cannot give"
+
+    @staticmethod
+    def _heat_input(data):
+        for name in data.inputs:
+            var = data.variables.get(name)
+            unit = getattr(var, "unit", "") or ""
+            if unit == "W" or re.match(r"^(q|qdot|phi)_?", name, re.I):
+                return name
+        return None
+
+    @staticmethod
+    def _outdoor_input(data):
+        for name, values in data.inputs.items():
+            if re.search(r"oda|out|amb", name, re.I) and _looks_temperature(np.asarray(values, dtype=float), ""):
+                return name
+        return None
+
+    def applies(self, data):
+        if self._heat_input(data) is None:
+            return "needs a heat-flow input to enter it through (unit W, or a name starting with Q)"
+        return None
+
+    def entries(self, data):
+        heat = self._heat_input(data)
+        values = np.asarray(data.inputs[heat], dtype=float)
+        size = max(200.0, 0.5 * float(np.nanmax(np.abs(values)))) if np.isfinite(values).any() else 500.0
+        constant, per_kelvin = f"extraLoad_{_safe(heat)}", f"extraLoadPerK_{_safe(heat)}"
+        params = [P(constant, 0.0, -size, size, "W", neutral=0.0)]
+        entry = {"apply": "input_add", "variable": heat, "constant": constant}
+        outdoor = self._outdoor_input(data)
+        if outdoor is not None:
+            params.append(P(per_kelvin, 0.0, -size / 20.0, size / 20.0, "W/K", neutral=0.0))
+            entry.update(per_kelvin=per_kelvin, of=outdoor, reference=293.15)
+        return [(entry, tuple(params))]
+
+    def signature(self, data):
+        out = {"constant": np.ones(len(data.time))}
+        outdoor = self._outdoor_input(data)
+        if outdoor is not None:
+            out[outdoor] = np.asarray(data.inputs[outdoor], dtype=float)
+        return out
+
+
+class OnOffDelay(_Around):
+    name = "on_off_delay"
+    description = "a measured on/off input acts late: a dead band or hysteresis delays switching on and off"
+    evidence = "the residual sits right after the switches of the on/off input, of opposite sign at starts and stops"
+
+    @staticmethod
+    def _switch_input(data):
+        for name, values in data.inputs.items():
+            v = np.asarray(values, dtype=float)
+            v = v[np.isfinite(v)]
+            if v.size and not _looks_temperature(v, "") and 0.0 <= v.min() and v.max() <= 1.0 + 1e-9:
+                off = np.mean(v <= 0.05)
+                if 0.05 < off < 0.95:
+                    return name
+        return None
+
+    def applies(self, data):
+        return None if self._switch_input(data) else "needs a measured on/off input (a 0..1 signal that is off for a while)"
+
+    def entries(self, data):
+        name = self._switch_input(data)
+        dt = data.sample_interval
+        on, off = f"onDelay_{_safe(name)}", f"offDelay_{_safe(name)}"
+        span = max(8.0 * dt, 1800.0)
+        return [({"apply": "input_hysteresis", "variable": name, "on_delay": on, "off_delay": off},
+                 (P(on, 0.0, 0.0, span, "s", neutral=0.0), P(off, 0.0, 0.0, span, "s", neutral=0.0)))]
+
+    def signature(self, data):
+        name = self._switch_input(data)
+        state = (np.asarray(data.inputs[name], dtype=float) > 0.05).astype(float)
+        dt = data.sample_interval
+        since_on, since_off = data.since_change(state, rising=True), data.since_change(state, rising=False)
+        return {"just started": (since_on < 3 * dt).astype(float) * state,
+                "just stopped": (since_off < 3 * dt).astype(float) * (1 - state)}
+
+
+GENERIC = (SensorTimeConstant, SensorOffsetGain, ClockShift, InputGainError, ExtraHeatLoad, OnOffDelay)
