@@ -97,3 +97,137 @@ def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, eff
     assert f"most likely unmodelled effect: {effect}" in text
     derived = next(r for r in result["recalibration"] if r["effect"] == effect)
     assert derived["gap_shrink"] > 0.5, derived
+
+
+def _shipped(folder: Path, name: str, evaluations: int, population: int) -> Path:
+    """The shipped workflow ``name`` with absolute paths, a small budget and its runs in ``folder``."""
+    yaml = YAML()
+    source = REPO / "workflows" / f"{name}.yaml"
+    doc = yaml.load(source.read_text())
+    doc["data"]["file"] = str((source.parent / doc["data"]["file"]).resolve())
+    options = doc["simulator"]["options"]
+    options["source"] = str((source.parent / options["source"]).resolve())
+    doc["optimiser"]["options"]["population"] = population
+    doc["optimiser"]["budget"] = {"evaluations": evaluations}
+    doc["output"] = str(folder / "runs")
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{name}.yaml"
+    with path.open("w") as fh:
+        yaml.dump(doc, fh)
+    return path
+
+
+def test_shipped_brine_water_diagnosis_names_what_the_model_has(tmp_path):
+    """The shipped brine-water workflow tunes the start-up inertia already: the diagnosis must
+    report it as in the model (never re-add it: 'named twice'), run to its end, and its
+    verdict must list every significant effect this model cannot take."""
+    run_dir = calibrate(prepare(_shipped(tmp_path, "brine_water_hp", 16, 8)), workers=2)
+    result = diagnose(
+        run_dir,
+        overrides={"recalibrate": {"candidates": 1, "population": 4, "generations": 1, "workers": 2}},
+        progress=None,
+    )
+    inertia = next(c for c in result["candidates"] if c.name == "start_up_inertia")
+    assert inertia.in_model and "already" in inertia.reason, inertia
+    assert "start_up_inertia" not in result["ranking"]
+    text = Path(result["report"]).read_text()
+    assert "In the model already (not screened): start_up_inertia" in text
+    possible = [c.name for c in result["candidates"] if c.applicable and c.significant and c.addition is None]
+    for name in possible:
+        assert name in result["verdict"], (name, result["verdict"])
+    if possible:
+        assert "this model cannot take it" in result["verdict"]
+    assert "named twice" not in text
+
+
+TRUE = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
+
+
+def _modulating_record(folder: Path) -> pd.DataFrame:
+    """The quickstart zone with a heat pump that modulates between 35 and 100 % and never
+    stops, measured as the FMU with its true parameters gives it (plus sensor noise)."""
+    from simgap.diagnosis.context import simulate
+
+    frame = pd.read_csv(DATA)
+    frame["u_hp"] = 0.35 + 0.65 * frame["u_hp"].clip(0.0, 1.0)
+    whole = {"training": {"start": "0%", "end": "100%"}}
+    path = _workflow(folder / "truth", frame)
+    yaml = YAML()
+    doc = yaml.load(path.read_text())
+    doc["data"]["segments"] = whole
+    with path.open("w") as fh:
+        yaml.dump(doc, fh)
+    setup = prepare(path).training
+    series = simulate(setup, TRUE)
+    rng = np.random.default_rng(4)
+    frame["T_zone_degC"] = series["T_zone"] - 273.15 + rng.normal(0.0, 0.05, len(frame))
+    frame["P_el_W"] = series["P_el"] * (1.0 + rng.normal(0.0, 0.01, len(frame)))
+    return frame
+
+
+def test_modulating_unit_has_no_cycles_and_tables_agree(tmp_path):
+    frame = _modulating_record(tmp_path)
+    assert frame["P_el_W"].min() > 0.2 * frame["P_el_W"].quantile(0.95)  # never stops
+    run_dir = calibrate(prepare(_workflow(tmp_path / "run", frame)), workers=2)
+    result = diagnose(run_dir, overrides={"recalibrate": {"candidates": 0}}, progress=None)
+    where = result["where"]
+    assert where["operation"] == "modulating"
+    assert where["cycles"] == {}  # no starts or stops claimed
+    for rows in where["regimes"].values():
+        assert "compressor off" not in rows and "start-up (15 min after start)" not in rows
+        assert rows["steady running"]["time_share"] == pytest.approx(1.0)
+    text = Path(result["report"]).read_text()
+    assert "The unit modulates" in text and "starts measured" not in text
+    assert "cycling" not in result["claimed"]
+
+
+RENAMED = {"T_out": "x_a", "u_hp": "x_b", "Q_sol": "x_c", "T_zone": "x_d", "P_el": "x_e", "T_zone_start": "x_f"}
+
+
+def _anonymous_model(folder: Path) -> Path:
+    """The quickstart zone's sources with meaningless variable names and no descriptions: a
+    model as foreign to the diagnosis as a third-party FMU can be."""
+    import re
+    import shutil
+
+    source = folder / "anonymous_zone"
+    shutil.copytree(REPO / "examples" / "models" / "quickstart_zone", source)
+    xml = (source / "modelDescription.xml").read_text()
+    code = (source / "quickstart_zone.c").read_text()
+    for old, new in RENAMED.items():
+        xml = xml.replace(f'name="{old}"', f'name="{new}"')
+        code = code.replace(f'"{old}"', f'"{new}"')
+    xml = re.sub(r'(<ScalarVariable[^>]*?)\sdescription="[^"]*"', r"\1", xml)
+    (source / "modelDescription.xml").write_text(xml)
+    (source / "quickstart_zone.c").write_text(code)
+    return source
+
+
+def test_unrecognisable_names_get_a_report_without_empty_tables(tmp_path):
+    """Model variables and columns renamed to nothing a role could be guessed from, no roles
+    declared: the report says which roles it lacks and which effects it could not test, with
+    no table left without rows."""
+    frame = pd.read_csv(DATA).rename(columns={"T_out_degC": "c1", "T_zone_degC": "c2", "P_el_W": "c3", "u_hp": "c4", "Q_sol_W": "c5"})
+    path = _workflow(tmp_path, frame)
+    yaml = YAML()
+    doc = yaml.load(path.read_text())
+    doc["data"]["columns"] = {"x1": {"from": "c1", "unit": "degC", "to": "K"}, "x2": {"from": "c2", "unit": "degC", "to": "K"}, "x3": "c3"}
+    doc["simulator"]["options"]["source"] = str(_anonymous_model(tmp_path))
+    doc["simulator"]["inputs"] = {"x_a": "x1", "x_b": "c4", "x_c": "c5"}
+    doc["simulator"]["initial"] = {"x_f": "x2"}
+    doc["targets"] = [
+        {"name": "a", "measured": "x2", "simulated": "x_d", "metrics": ["rmse"]},
+        {"name": "b", "measured": "x3", "simulated": "x_e", "metrics": ["cvrmse"]},
+    ]
+    with path.open("w") as fh:
+        yaml.dump(doc, fh)
+    run_dir = calibrate(prepare(path), workers=2)
+    result = diagnose(run_dir, overrides={"recalibrate": {"candidates": 0}}, progress=None)
+    text = Path(result["report"]).read_text()
+    assert "No roles recognised" in text, text[:3000]
+    assert "Could not be tested:" in text and "needs compressor" in text
+    assert "No regimes: no series plays the role of" in text
+    lines = text.splitlines()
+    for i, line in enumerate(lines):
+        if line.startswith("|---"):  # a table's separator must be followed by a row
+            assert i + 1 < len(lines) and lines[i + 1].startswith("|"), "\n".join(lines[max(0, i - 3) : i + 2])

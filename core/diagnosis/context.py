@@ -86,6 +86,10 @@ class Context:
     roles: dict[str, str] = field(default_factory=dict)
     """Role -> name of the series playing it ('input:X', 'sim:Y' or 'derived:...')."""
     units: dict[str, str] = field(default_factory=dict)
+    role_sources: dict[str, str] = field(default_factory=dict)
+    """Role -> where it was taken from (declared, a name, a unit, a description)."""
+    operation: str = "unknown"
+    """'on/off', 'modulating' (never off) or 'unknown' (no power or compressor series)."""
 
     @property
     def targets(self) -> list[str]:
@@ -116,7 +120,7 @@ class Context:
             inputs=inputs,
             simulated=sim,
             units=dict(self.units),
-            roles=role_series(self.roles, inputs, sim),
+            roles=role_series(self.roles, inputs, sim, None if self.operation == "unknown" else self.operation == "on/off"),
             variables=self.prepared.simulator.variables(),
             target_variables={t.name: t.simulated_variables[0] for t in model.targets},
             tuners=tuple(self.prepared.space.names),
@@ -246,7 +250,8 @@ def build_context(run_dir, *, solution=None, workflow=None, overrides: dict | No
         pieces.append(_piece(kind, setup, simulated))
     ctx = Context(run=run, prepared=prepared, config=config, solution_id=solution_id, parameters=params, pieces=pieces)
     ctx.units = guess_units(ctx)
-    ctx.roles = guess_roles(ctx)
+    ctx.roles, ctx.role_sources = guess_roles(ctx)
+    ctx.operation = operation(ctx)
     return ctx
 
 
@@ -273,12 +278,28 @@ def guess_units(ctx: Context) -> dict[str, str]:
     return units
 
 
-def guess_roles(ctx: Context) -> dict[str, str]:
-    """Role -> series ('input:NAME', 'sim:TARGET', 'derived:compressor from sim:TARGET')."""
+_ROLE_UNITS = {"outdoor_temperature": ("K", "degC"), "humidity": ("1", "%"), "flow": ("kg/s", "m3/s", "l/s"), "power": ("W", "kW")}
+_ROLE_WORDS = {
+    "compressor": r"compressor|heat pump (on|status|signal|speed|modulation)",
+    "outdoor_temperature": r"outdoor|outside|ambient|external air|weather",
+    "humidity": r"humidity",
+    "flow": r"mass flow|flow rate|volume flow",
+    "power": r"electric(al)? power|power consumption|power draw",
+    "fan": r"\bfan\b",
+}
+
+
+def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
+    """(role -> series, role -> where it was taken from).
+
+    Series are 'input:NAME', 'sim:TARGET' or 'derived:compressor from sim:TARGET'. Declared
+    roles (``diagnose.roles``) win; then names; then a model variable's description (an FMU's
+    ``description`` attribute) with a fitting unit."""
     explicit = dict(ctx.config.roles)
     inputs = list(ctx.pieces[0].inputs)
     targets = ctx.targets
     roles: dict[str, str] = {}
+    sources: dict[str, str] = {}
     for role, name in explicit.items():
         if role not in ROLES:
             raise ConfigError(f"diagnose.roles: unknown role {role!r}; roles are {', '.join(ROLES)}")
@@ -288,6 +309,7 @@ def guess_roles(ctx: Context) -> dict[str, str]:
             roles[role] = f"sim:{name}"
         else:
             raise ConfigError(f"diagnose.roles.{role}: {name!r} is neither a model input ({', '.join(inputs)}) nor a target ({', '.join(targets)})")
+        sources[role] = "declared in diagnose.roles"
     for role, pattern in _ROLE_PATTERNS.items():
         if role in roles:
             continue
@@ -295,14 +317,41 @@ def guess_roles(ctx: Context) -> dict[str, str]:
         for name in pool:
             if re.search(pattern, name, re.I):
                 roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
+                sources[role] = f"guessed from the name '{name}'"
+                break
+    try:
+        variables = ctx.prepared.simulator.variables()
+    except Exception:  # a simulator that cannot list its variables has no descriptions to offer
+        variables = {}
+    target_vars = {t.name: t.simulated_variables[0] for t in ctx.prepared.wf.model.targets}
+    for role, words in _ROLE_WORDS.items():
+        if role in roles:
+            continue
+        pool = [(t, target_vars.get(t, t)) for t in targets] if role == "power" else [(n, n) for n in inputs]
+        for name, var_name in pool:
+            var = variables.get(var_name)
+            text = getattr(var, "description", "") or ""
+            unit = getattr(var, "unit", "") or ""
+            units = _ROLE_UNITS.get(role)
+            if text and re.search(words, text, re.I) and (units is None or not unit or unit in units):
+                roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
+                sources[role] = f"from the model's description of '{var_name}' ({text!r})"
+                break
+    if "power" not in roles:
+        for t in targets:
+            var = variables.get(target_vars.get(t, t))
+            if getattr(var, "unit", "") in ("W", "kW") and re.search(r"^p|pow|el", t, re.I):
+                roles["power"] = f"sim:{t}"
+                sources["power"] = f"from the unit W of '{t}' and its name"
                 break
     if "compressor" not in roles and "power" in roles:
         # no compressor signal among the inputs: the simulated power tells when it runs
         roles["compressor"] = f"derived:{roles['power']}"
-    return roles
+        sources["compressor"] = f"derived from the simulated power ({roles['power'][4:]})"
+    return roles, sources
 
 
-def role_series(roles: dict[str, str], inputs: dict, simulated: dict) -> dict[str, np.ndarray]:
+def role_series(roles: dict[str, str], inputs: dict, simulated: dict, on_off: bool | None = None) -> dict[str, np.ndarray]:
     out = {}
     for role, ref in roles.items():
         kind, _, name = ref.partition(":")
@@ -312,17 +361,57 @@ def role_series(roles: dict[str, str], inputs: dict, simulated: dict) -> dict[st
             out[role] = np.asarray(simulated[name], dtype=float)
         elif kind == "derived":
             base = role_series({"x": name}, inputs, simulated)["x"]
-            out[role] = running_level(base)
+            out[role] = running_level(base, on_off)
     return out
 
 
-def running_level(power: np.ndarray) -> np.ndarray:
-    """0..1 compressor level from an electric power series: 0 at standby, 1 at the 95th percentile."""
-    low = float(np.nanpercentile(power, 2))
+def operation(ctx: "Context") -> str:
+    """'on/off' or 'modulating', from the measured power (or an explicit compressor input):
+    starts and stops are counted only where the signal really has two states."""
+    ref = ctx.roles.get("compressor", "") or ctx.roles.get("power", "")
+    kind, _, name = ref.partition(":")
+    if kind == "derived":
+        kind, _, name = name.partition(":")
+    if kind == "input":
+        values = ctx.joined("inputs")[name]
+    elif kind == "sim":
+        values = ctx.joined("measured")[name]
+    else:
+        return "unknown"
+    return "on/off" if two_state(values) else "modulating"
+
+
+def two_state(values: np.ndarray) -> bool:
+    """True if a power or control series is really on/off: a standby cluster near zero (at most
+    10 % of the 95th percentile), holding at least 1 % of the samples, separated by a gap (the
+    band from 10 % to 20 % holds under a fifth as many samples). A modulating unit that never
+    stops has no such cluster; its lowest modulation is not "off"."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size < 10:
+        return False
+    high = float(np.percentile(v, 95))
+    if not high > 0:
+        return False
+    off = np.mean(v <= 0.1 * high)
+    gap = np.mean((v > 0.1 * high) & (v <= 0.2 * high))
+    return bool(off >= 0.01 and gap < 0.2 * off)
+
+
+def running_level(power: np.ndarray, on_off: bool | None = None) -> np.ndarray:
+    """0..1 compressor level from an electric power series: 0 at standby, 1 at the 95th percentile.
+
+    Off only where the series is on/off (:func:`two_state`, or ``on_off`` given): a modulating
+    unit's lowest power is a low level, not a stop."""
+    power = np.asarray(power, dtype=float)
+    on_off = two_state(power) if on_off is None else on_off
+    low = float(np.nanpercentile(power, 2)) if on_off else 0.0
     high = float(np.nanpercentile(power, 95))
     if not high > low:
         return np.zeros(len(power))
     level = np.clip((power - low) / (high - low), 0.0, 1.0)
+    if not on_off:
+        return np.maximum(level, 0.06)  # running throughout (above the 0.05 'running' threshold)
     # standby and pump-only power are not the compressor: below 15 % of the span counts as off
     return np.where(level < 0.15, 0.0, level)
 

@@ -57,6 +57,8 @@ class Candidate:
     min_shrink: float = 0.0
     confirm: bool = False
     """True when recalibrations confirm claims (a recalibration budget was given)."""
+    would_test: str = "a model that can take it"
+    """What would test it where this model cannot take it (a switch, a generic alternative)."""
     in_model: bool = False
     """The model has this effect already (switch on or its parameters tuned): not screened."""
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
@@ -87,6 +89,7 @@ class Candidate:
             "evidence": self.evidence,
             "applicable": self.applicable,
             "in_model": self.in_model,
+            "would_test": self.would_test,
             "reason": self.reason,
             "can_add": self.addition is not None,
             "features": self.features,
@@ -340,6 +343,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
     for effect in effects:
         reason = effect.applies(data)
         cand = Candidate(effect.name, effect.description, effect.evidence, applicable=reason is None, reason=reason or "")
+        cand.would_test = getattr(effect, "would_test", "") or cand.would_test
         candidates.append(cand)
         if reason is not None:
             continue

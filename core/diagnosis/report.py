@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .context import Context
+from .context import ROLES, Context
 from .where import rolling_error, worst_windows
 
 
@@ -128,11 +128,32 @@ def figures(ctx: Context, where: dict, candidates, shrink: list[dict], folder: P
     return out
 
 
+def _no_regimes(ctx) -> str:
+    missing = [r for r in ("compressor", "outdoor_temperature", "flow") if r not in ctx.roles]
+    return ("no series plays the role of " + ", ".join(missing)
+            + " (declare them under diagnose.roles if the model has them)") if missing else "no regime holds enough samples"
+
+
 def verdict(candidates) -> str:
+    """Confirmed effects with their shrink; then significant ones this model cannot take (and
+    what would test them); else nothing found."""
     claimed = [c for c in candidates if c.claimed]
-    if not claimed:
-        return "no significant unmodelled effect"
-    return f"most likely unmodelled effect: {claimed[0].name}"
+    possible = [c for c in candidates if c.applicable and c.significant and c.addition is None and c.confirm]
+    parts = []
+    if claimed:
+        def shrink(c):
+            value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
+            return f" (gap shrink {value:.0%} beyond re-tuning)" if value is not None and value == value else ""
+
+        parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
+        if len(claimed) > 1:
+            parts.append("also confirmed: " + ", ".join(c.name + shrink(c) for c in claimed[1:]))
+    else:
+        parts.append("no significant unmodelled effect" if not possible else "no confirmed unmodelled effect")
+    if possible:
+        parts.append("possible, this model cannot take it: " + "; ".join(
+            f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible))
+    return "; ".join(parts)
 
 
 def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict) -> Path:
@@ -144,6 +165,8 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "solution": ctx.solution_id,
         "parameters": ctx.parameters,
         "roles": ctx.roles,
+        "role_sources": ctx.role_sources,
+        "operation": ctx.operation,
         "verdict": verdict(candidates),
         "claimed": [c.name for c in claimed],
         "where": where,
@@ -188,6 +211,17 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         if best:
             lines.append(f"Recalibrated with it, the validation gap shrinks by {best['gap_shrink']:.0%} (table below).")
         lines.append("")
+    lines += ["### Roles", ""]
+    if ctx.roles:
+        lines += ["| role | series | taken from |", "|---|---|---|"]
+        lines += [f"| {r} | {ref} | {ctx.role_sources.get(r, '')} |" for r, ref in ctx.roles.items()]
+    missing = [r for r in ROLES if r not in ctx.roles]
+    if missing:
+        lines += ["", ("No roles recognised" if not ctx.roles else "No series plays the role of") + ": " + ", ".join(missing)
+                  + " (neither declared under diagnose.roles nor recognised from names, units or the model's descriptions); "
+                  "effects that need them are listed as not tested in part 2."]
+    lines += ["", f"Operation: {ctx.operation}" + (" (starts and stops counted)" if ctx.operation == "on/off" else
+              " (never off: no starts or stops counted)" if ctx.operation == "modulating" else " (no power or compressor series)") + ".", ""]
     # part 1
     lines += ["## 1. Where the gap lies", ""]
     lines += ["| target | data | RMSE | MBE | CV(RMSE) | bias / amplitude / timing share of MSE | best lag | worst window |", "|---|---|---|---|---|---|---|---|"]
@@ -205,6 +239,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
               "measurement follows the simulation late (a lag the model lacks).", ""]
     if "residuals" in figs:
         lines += [f"![residuals over time]({figs['residuals']})", "", "Shaded: the worst windows.", ""]
+    if not where["regimes"]:
+        lines += ["### By operating regime", "", "No regimes: " + _no_regimes(ctx) + ".", ""]
     if where["regimes"]:
         lines += ["### By operating regime", "", "| target | regime | share of time | share of squared error | RMSE | MBE |", "|---|---|---|---|---|---|"]
         for t, rows in where["regimes"].items():
@@ -214,6 +250,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         lines += ["", "**←**: the regime holds clearly more of the error than of the time.", ""]
         if "regimes" in figs:
             lines += [f"![error by regime]({figs['regimes']})", ""]
+    if where.get("operation") == "modulating":
+        lines += ["### On/off cycles", "", "The unit modulates: its power never drops to a standby level with a gap below its running "
+                  "range, so no starts or stops are counted (the regimes above treat it as running throughout).", ""]
     if where["cycles"]:
         lines += ["### On/off cycles (from electric power)", "", "| data | starts measured | starts simulated | mean on (min) meas / sim | mean off (min) meas / sim |", "|---|---|---|---|---|"]
         for kind, c in where["cycles"].items():
@@ -255,9 +294,12 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
             f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
             f"{'**yes**' if c.claimed else 'no'} | {c.description} |"
         )
-    skipped = [c for c in candidates if not c.applicable]
+    present = [c for c in candidates if c.in_model]
+    if present:
+        lines += ["", "In the model already (not screened): " + "; ".join(f"{c.name} ({c.reason[len('in the model: '):]})" for c in present) + "."]
+    skipped = [c for c in candidates if not c.applicable and not c.in_model]
     if skipped:
-        lines += ["", "Not tested: " + "; ".join(f"{c.name} ({c.reason})" for c in skipped) + "."]
+        lines += ["", "Could not be tested: " + "; ".join(f"{c.name} ({c.reason})" for c in skipped) + "."]
     lines.append("")
     for key, caption in (("ranking", "ranking"), ("top_effect", "top candidate's signature fitted to the residual")):
         if key in figs:

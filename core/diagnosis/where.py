@@ -176,16 +176,18 @@ def analyse(ctx: Context) -> dict:
                 "rmse": float(np.sqrt(np.mean(e[sel] ** 2))),
                 "mbe": float(-np.mean(e[sel])),  # simulated − measured
             }
-        result["regimes"][t] = rows
+        if rows:
+            result["regimes"][t] = rows
     # on/off cycles measured vs simulated, from power if there is a power target
     power_ref = ctx.roles.get("power", "")
-    if power_ref.startswith("sim:"):
+    result["operation"] = ctx.operation
+    if power_ref.startswith("sim:") and ctx.operation == "on/off":
         name = power_ref[4:]
         for piece in ctx.pieces:
             # a running median keeps sensor noise from flickering the on/off state
             raw = pd.Series(piece.measured[name]).rolling(5, center=True, min_periods=1).median()
-            meas = running_level(raw.fillna(raw.median()).to_numpy())
-            sim = running_level(piece.simulated[name])
+            meas = running_level(raw.fillna(raw.median()).to_numpy(), on_off=True)
+            sim = running_level(piece.simulated[name], on_off=True)
             result["cycles"][piece.kind] = {
                 "measured": cycles(meas > 0.05, piece.seconds, piece.segment),
                 "simulated": cycles(sim > 0.05, piece.seconds, piece.segment),

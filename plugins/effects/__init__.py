@@ -46,6 +46,13 @@ class _SwitchEffect(simgap.Effect):
 
     needs_temperature = False
 
+    @property
+    def would_test(self) -> str:
+        alternative = {"sensor_lag": "sensor_time_constant", "cycling": "on_off_delay", "heat_loss": "extra_heat_load",
+                       "start_up_lag": "on_off_delay", "start_up_inertia": "on_off_delay", "post_run": "on_off_delay"}.get(self.name)
+        text = f"a model with the '{self.switch}' switch and its parameters would test it"
+        return text + (f"; the generic {alternative} tests a part of it" if alternative else "")
+
     def addition(self, data):
         if self.switch not in data.variables:
             return None
