@@ -35,7 +35,7 @@ import numpy as np
 from ruamel.yaml import YAML
 
 import simgap
-from simgap import synth
+from simgap.models import synth
 
 REPO = Path(__file__).resolve().parents[1]
 AIR_WORKFLOW = REPO / "workflows" / "air_source_hp.yaml"

@@ -29,8 +29,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from simgap import synth
-from simgap.diagnosis.blind import BlindCase, run_case
+from simgap.models import synth
+from simgap.models.blind import BlindCase, run_case
 
 
 def cases(models: list[str], quick: bool) -> list[BlindCase]:
@@ -63,7 +63,7 @@ def combination_cases(models: list[str]) -> list[BlindCase]:
 
 def _variant(model: str, effect: str, i: int) -> dict[str, float]:
     """A stronger (even i) or weaker (odd i) setting of the effect's first parameter."""
-    from simgap.diagnosis.blind import VISIBLE_STRENGTH
+    from simgap.models.blind import VISIBLE_STRENGTH
 
     base = dict(VISIBLE_STRENGTH.get(model, {}).get(effect, {}))
     spec = synth.MODELS[model].effects[effect]

@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 import simgap
-from simgap import synth
+from simgap.models import synth
 
 RUNS = 5
 STEPS = 129_600

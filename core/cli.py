@@ -211,7 +211,7 @@ def plugins():
                 click.echo(f"  {kind}s: {', '.join(names)}")
 
 
-from .synth_cli import register as _register_synth  # noqa: E402  (the command body lives there)
+from simgap.models.synth_cli import register as _register_synth  # noqa: E402  (the example models' test bench)
 
 _register_synth(main)
 

@@ -232,7 +232,7 @@ class EffectParameter:
 class EffectAddition:
     """How to add an effect to a model: parameter values to fix and new tuner parameters.
 
-    ``switch`` holds fixed start values (for instance ``{"useStartUpLag": 1.0}``) and
+    ``switch`` holds fixed start values (for instance ``{"useSensorMass": 1.0}``, a model's own switch) and
     ``parameters`` the effect's own tuners, searched alongside the model's tuners; ``around``
     applies generic effects around any simulator (parameters named there are tuners too).
     """

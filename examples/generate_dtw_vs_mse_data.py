@@ -25,7 +25,7 @@ import json
 from pathlib import Path
 
 import pandas as pd
-from simgap.synth import write_dataset
+from simgap.models.synth import write_dataset
 
 HERE = Path(__file__).resolve().parent
 DEFAULT_OUT = HERE / "data" / "dtw_vs_mse_measured.parquet"

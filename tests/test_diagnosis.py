@@ -15,7 +15,7 @@ from click.testing import CliRunner
 
 import simgap
 from simgap.cli import main as cli
-from simgap.diagnosis.blind import BlindCase, run_case, write_case
+from simgap.models.blind import BlindCase, run_case, write_case
 from simgap.diagnosis.ranking import shift_test
 from simgap.diagnosis.shrink import noise_sigma
 from simgap.diagnosis.where import best_lag, cycles

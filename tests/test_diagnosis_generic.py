@@ -231,3 +231,34 @@ def test_unrecognisable_names_get_a_report_without_empty_tables(tmp_path):
     for i, line in enumerate(lines):
         if line.startswith("|---"):  # a table's separator must be followed by a row
             assert i + 1 < len(lines) and lines[i + 1].startswith("|"), "\n".join(lines[max(0, i - 3) : i + 2])
+
+
+def test_the_host_holds_no_heat_pump_model_knowledge():
+    """core/ (the host, import name simgap) names none of the example heat pump models, their
+    switches or variables: that knowledge lives beside the models and in the effect plugins."""
+    import re
+
+    names = re.compile(r"air_source_hp|water_to_water_hp|brine_water_hp|useStartUpLag|useDefrost|useCycling|usePostRun|"
+                       r"useSensorLag|useHeatLoss|useInertia|useBackupHeater|nSpeedHP|TEva_K|refIneFreConst", re.I)
+    found = [f"{path.relative_to(REPO)}:{i}" for path in sorted((REPO / "core").rglob("*.py"))
+             for i, line in enumerate(path.read_text().splitlines(), 1) if names.search(line)]
+    assert not found, found
+
+
+def test_two_withheld_effects_are_found_one_round_after_the_other(tmp_path):
+    """A slow zone sensor and a power meter reading 15 % high: the first round confirms one,
+    the model recalibrated with it is diagnosed again and the second is confirmed there."""
+    frame = pd.read_csv(DATA)
+    t = _seconds(frame)
+    frame = frame.assign(T_zone_degC=_lag(frame["T_zone_degC"].to_numpy(), t, 2400.0), P_el_W=1.15 * frame["P_el_W"])
+    run_dir = calibrate(prepare(_workflow(tmp_path, frame)), workers=2)
+    result = diagnose(
+        run_dir,
+        overrides={"iterations": 2, "recalibrate": {"candidates": 2, "population": 12, "generations": 4, "workers": 2}},
+        progress=None,
+    )
+    chain = [link["effect"] for link in result["chain"]]
+    assert sorted(chain) == ["sensor_offset_gain", "sensor_time_constant"], result["chain"]
+    assert result["chain"][-1]["cumulative_shrink"] > result["chain"][0]["cumulative_shrink"] > 0.2, result["chain"]
+    text = Path(result["report"]).read_text()
+    assert "## 4. Effect by effect" in text

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from simgap import synth
+from simgap.models import synth
 
 
 def cv_rmse(measured, simulated):

@@ -10,7 +10,7 @@ import fmpy
 import numpy as np
 import pytest
 
-from simgap import synth
+from simgap.models import synth
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,7 @@ import pytest
 from fmpy.validation import validate_fmu
 
 import simgap
-from simgap import synth
+from simgap.models import synth
 
 MODELS_DIR = Path(__file__).resolve().parents[1] / "examples" / "models"
 MODEL_NAMES = ["air_source_hp", "water_to_water_hp", "brine_water_hp"]

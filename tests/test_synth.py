@@ -1,4 +1,4 @@
-"""simgap.synth writes deterministic synthetic measurements with their truth."""
+"""simgap.models.synth writes deterministic synthetic measurements with their truth."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 import simgap
-from simgap import synth
+from simgap.models import synth
 
 
 @pytest.fixture(scope="module")

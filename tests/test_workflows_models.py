@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 import simgap
-from simgap import synth
+from simgap.models import synth
 from simgap.cli import main
 from simgap.config import load_workflow
 from simgap.data import load_measured, segments

@@ -55,6 +55,9 @@ class DiagnoseConfig(BaseModel):
     confirm_significance: float = Field(0.05, gt=0, lt=1)
     """Largest p-value at which the recalibration's lower error than the control's counts (a
     paired test of the squared errors that keeps their autocorrelation)."""
+    iterations: int = Field(2, ge=1)
+    """Diagnosis rounds: after an effect is confirmed, the model recalibrated with it is
+    diagnosed again for a further effect (1: one round only)."""
     window: str = "1h"
     """Length of the rolling-error window that localises the gap in time."""
     recalibrate: Budget = Field(default_factory=Budget)
@@ -259,8 +262,8 @@ def build_context(run_dir, *, solution=None, workflow=None, overrides: dict | No
 # roles
 
 _ROLE_PATTERNS = {
-    "compressor": r"compressor|comp\b|nspeedhp|ycomp|hpon|speedhp|y_?hp\b|ncomp",
-    "outdoor_temperature": r"oda|outdoor|outside|t_?out\b|t_?amb_?out|^teva_k$",
+    "compressor": r"compressor|comp\b|ycomp|hpon|y_?hp\b|ncomp",
+    "outdoor_temperature": r"oda|outdoor|outside|t_?out\b|t_?amb_?out",
     "humidity": r"relhum|humidity|\brh\b|phi_?oda",
     "flow": r"m_?flow|mflow|flow_?kg|vflow|v_?flow",
     "power": r"pel|p_?el|power|^p_|_w$",
@@ -310,12 +313,21 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
         else:
             raise ConfigError(f"diagnose.roles.{role}: {name!r} is neither a model input ({', '.join(inputs)}) nor a target ({', '.join(targets)})")
         sources[role] = "declared in diagnose.roles"
+    joined_inputs = ctx.joined("inputs")
+
+    def plausible(role: str, name: str) -> bool:
+        """An outdoor temperature looks like one (a humidity named '...Oda' does not)."""
+        if role != "outdoor_temperature" or name not in joined_inputs:
+            return True
+        mean = float(np.nanmean(joined_inputs[name]))
+        return 200.0 < mean < 340.0 or -40.0 < mean < 50.0
+
     for role, pattern in _ROLE_PATTERNS.items():
         if role in roles:
             continue
         pool = targets if role == "power" else inputs
         for name in pool:
-            if re.search(pattern, name, re.I):
+            if re.search(pattern, name, re.I) and plausible(role, name):
                 roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
                 sources[role] = f"guessed from the name '{name}'"
                 break
@@ -333,7 +345,7 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
             text = getattr(var, "description", "") or ""
             unit = getattr(var, "unit", "") or ""
             units = _ROLE_UNITS.get(role)
-            if text and re.search(words, text, re.I) and (units is None or not unit or unit in units):
+            if text and re.search(words, text, re.I) and (units is None or not unit or unit in units) and plausible(role, name):
                 roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
                 sources[role] = f"from the model's description of '{var_name}' ({text!r})"
                 break

@@ -156,7 +156,7 @@ def verdict(candidates) -> str:
     return "; ".join(parts)
 
 
-def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict) -> Path:
+def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict, chain: list[dict] | None = None) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     figs = figures(ctx, where, candidates, shrink, folder / "figures")
     claimed = [c for c in candidates if c.claimed]
@@ -175,10 +175,28 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "settings": ctx.config.model_dump(),
         "timing": timing,
         "figures": figs,
+        "chain": chain or [],
     }
     (folder / "diagnosis.json").write_text(json.dumps(payload, indent=2, default=_default) + "\n")
-    (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs))
+    (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs) + _chain_markdown(chain or []))
     return folder
+
+
+def _chain_markdown(chain: list[dict]) -> str:
+    if not chain:
+        return ""
+    lines = ["## 4. Effect by effect", "",
+             "After the best-confirmed effect is recalibrated, the recalibrated model is diagnosed again (the effect is then "
+             "in the model); each round's report is under `then/`.", "",
+             "| round | confirmed effect | gap shrink in its round | cumulative shrink of the original gap |", "|---|---|---|---|"]
+    for link in chain:
+        lines.append(f"| {link['round']} | {link['effect']} | {_pct(link['gap_shrink'])} | {_pct(link['cumulative_shrink'])} |")
+    last = chain[-1]
+    if last.get("further_error"):
+        lines += ["", f"The further round failed: {last['further_error']}"]
+    else:
+        lines += ["", f"Stopped after round {last['round']}: {last.get('stopped', 'no further effect confirmed')}."]
+    return "\n".join(lines) + "\n"
 
 
 def _default(v):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -96,6 +97,41 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
     return out
 
 
+def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder: Path, say) -> list[dict]:
+    """The chain of confirmed effects, one per round: the model recalibrated with this round's
+    best-confirmed effect is diagnosed again (that effect is then in the model and not screened
+    twice). Each link: the effect, its gap shrink against the round's solution, and the
+    cumulative shrink of the original gap (shrinks of the gap above the noise floor compound)."""
+    claimed = [c for c in candidates if c.claimed]
+    if not claimed:
+        return []
+    best = claimed[0]
+    result = next((r for r in shrink if r.get("effect") == best.name and r.get("run") and "solution" in r), None)
+    value = best.gap_shrink if best.gap_shrink is not None else math.nan
+    chain = [{"round": 1, "effect": best.name, "gap_shrink": value, "cumulative_shrink": value,
+              "run": result.get("run") if result else None}]
+    if ctx.config.iterations <= 1 or result is None:
+        chain[-1]["stopped"] = "the round limit (diagnose.iterations)" if result is not None else "no recalibrated run to go on from"
+        return chain
+    say(f"round 2: diagnosing the model recalibrated with {best.name} for a further effect")
+    overrides = ctx.config.model_dump(exclude={"solution"})
+    overrides["iterations"] = ctx.config.iterations - 1
+    try:
+        further = diagnose(result["run"], solution=result["solution"], output=folder / "then",
+                           overrides=overrides, progress=(lambda m: say("  " + m)))
+    except Exception as exc:  # a failed further round leaves this round's findings intact
+        chain[0]["further_error"] = f"{type(exc).__name__}: {exc}"
+        return chain
+    if not further["chain"]:
+        chain[-1]["stopped"] = "no further effect confirmed"
+    for link in further["chain"]:
+        previous = chain[-1]["cumulative_shrink"]
+        step = link["gap_shrink"]
+        cumulative = 1.0 - (1.0 - previous) * (1.0 - step) if math.isfinite(previous) and math.isfinite(step) else math.nan
+        chain.append({**link, "round": len(chain) + 1, "cumulative_shrink": cumulative})
+    return chain
+
+
 def diagnose(
     run_dir,
     *,
@@ -162,11 +198,13 @@ def diagnose(
     candidates = confirm_order(candidates)
     if control is not None:
         shrink.insert(0, control)
+    chain = further_effects(ctx, candidates, shrink, folder, say)
     t3 = time.perf_counter()
     say(verdict(candidates))
     timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}
-    write(ctx, where, candidates, shrink, folder, timing)
+    write(ctx, where, candidates, shrink, folder, timing, chain)
     return {
+        "chain": chain,
         "report": folder / "report.md",
         "json": folder / "diagnosis.json",
         "verdict": verdict(candidates),

@@ -1,4 +1,4 @@
-"""``simgap synth``: write a synthetic "measured" data set with known truth (:mod:`simgap.synth`).
+"""``simgap synth``: write a synthetic "measured" data set with known truth (:mod:`simgap.models.synth`).
 
 Settings come from a small YAML/JSON file (``--spec``) and from options; an option overrides
 the file (for the mappings — parameters, effects, noise, offsets, decimals — key by key).
@@ -12,12 +12,12 @@ from typing import Literal
 import click
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from .durations import Duration, parse_duration
-from .errors import ConfigError, SimgapError
+from simgap.durations import Duration, parse_duration
+from simgap.errors import ConfigError, SimgapError
 
 
 class SynthSpec(BaseModel):
-    """What a spec file may hold: the keyword arguments of :func:`simgap.synth.write_dataset`."""
+    """What a spec file may hold: the keyword arguments of :func:`simgap.models.synth.write_dataset`."""
 
     model_config = ConfigDict(extra="forbid")
 
@@ -53,8 +53,8 @@ class SynthSpec(BaseModel):
 
 
 def read_spec(path: Path) -> SynthSpec:
-    from .config import validation_error
-    from .yamlfile import read_yaml
+    from simgap.config import validation_error
+    from simgap.yamlfile import read_yaml
 
     if not path.is_file():
         raise ConfigError(f"synth spec file not found: {path}")
@@ -144,7 +144,7 @@ def run_synth(
     label: str | None = None,
     warmup: str | None = None,
 ):
-    """Merge the spec file with the options and call :func:`simgap.synth.write_dataset`."""
+    """Merge the spec file with the options and call :func:`simgap.models.synth.write_dataset`."""
     from . import synth
 
     spec = read_spec(spec_file) if spec_file is not None else SynthSpec()

@@ -8,7 +8,7 @@ such data can then be scored against the truth, and a gap diagnosis can be teste
 
 Main entry point::
 
-    from simgap.synth import write_dataset
+    from simgap.models.synth import write_dataset
     result = write_dataset(
         "runs/winter_lag.parquet", "air_source_hp",
         seasons=("autumn", "winter", "summer"), resolution="1min",
@@ -58,8 +58,8 @@ from typing import Iterable, Mapping
 import numpy as np
 import pandas as pd
 
-from .errors import ModelError, SimgapError
-from .fmu_log import FMULog
+from simgap.errors import ModelError, SimgapError
+from simgap import FMULog
 
 SEASONS = ("autumn", "winter", "summer")
 RESOLUTIONS = {"1s": 1.0, "1min": 60.0, "5min": 300.0}
@@ -263,13 +263,13 @@ def _spec(model: str) -> ModelSpec:
 
 def build_model(model: str, cache_dir: Path | None = None) -> Path:
     """Compile the example model's C sources (cached) and return the ``.fmu`` path."""
-    from .fmu_build import build_fmu
+    from simgap import build_fmu
 
-    from .setup import cache_dir as default_cache_dir
+    from simgap.setup import cache_dir as default_cache_dir
 
     source = models_dir() / _spec(model).folder
     if not source.is_dir():
-        raise ModelError(f"{source}: example model sources not found (simgap.synth needs a simgap checkout)")
+        raise ModelError(f"{source}: example model sources not found (simgap.models.synth needs a simgap checkout)")
     return build_fmu(source, Path(cache_dir) if cache_dir is not None else default_cache_dir())
 
 

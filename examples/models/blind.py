@@ -1,7 +1,7 @@
 """Blind test cases for the gap diagnosis: synthetic data with a withheld effect, a base workflow.
 
 Used by ``benchmarks/diagnosis_blind.py`` and the CI test. A case writes measured data with
-``simgap.synth.write_dataset`` (the effect switched on, or nothing for a null case) and a
+``simgap.models.synth.write_dataset`` (the effect switched on, or nothing for a null case) and a
 workflow that calibrates the base model (every effect off) on it. The diagnosis is then run on
 the calibration without being told what was withheld.
 """
@@ -15,7 +15,7 @@ from typing import Mapping
 
 from ruamel.yaml import YAML
 
-from .. import synth
+from . import synth
 
 # The tuners a small-budget base calibration searches, per model, and the true values the
 # synthetic "measurement" uses (away from the defaults, so the calibration has work to do).
@@ -168,9 +168,9 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     """Write, calibrate and diagnose one case blind; score the diagnosis against the truth."""
     import time
 
-    from ..calibrate import calibrate
-    from ..setup import prepare
-    from .run import diagnose
+    from simgap.calibrate import calibrate
+    from simgap.setup import prepare
+    from simgap.diagnosis import diagnose
 
     t0 = time.perf_counter()
     workflow = write_case(case, folder)
@@ -216,8 +216,8 @@ def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
     CV(RMSE) with 6 % avoidable gap that got 4 % worse counted −68 %.)"""
     import json
 
-    from ..evaluation import evaluate
-    from ..setup import prepare
+    from simgap.evaluation import evaluate
+    from simgap.setup import prepare
 
     truth = json.loads((Path(workflow).parent / "measured.truth.json").read_text())
     prepared = prepare(workflow)
