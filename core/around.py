@@ -212,7 +212,9 @@ class AroundSimulator(Simulator):
             elif isinstance(e, InputHysteresis):
                 inputs[e.variable] = _hysteresis(u, case.input_time, e.threshold, _value(e.on_delay, own), _value(e.off_delay, own))
         if any(e.variable in case.inputs for e in self.entries):
-            case = replace(case, inputs=inputs)
+            # the key names the inputs: a simulator caches work derived from them under it
+            changed = ",".join(f"{k}={v!r}" for k, v in sorted(own.items()))
+            case = replace(case, inputs=inputs, key=f"{case.key}|around:{changed}")
         result = dict(self.inner.simulate(inner_params, case, deadline))
         t = np.asarray(case.output_time, dtype=float)
         for e in self.entries:

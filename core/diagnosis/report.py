@@ -138,7 +138,12 @@ def verdict(candidates) -> str:
     """Confirmed effects with their shrink; then significant ones this model cannot take (and
     what would test them); else nothing found."""
     claimed = [c for c in candidates if c.claimed]
-    possible = [c for c in candidates if c.applicable and c.significant and c.addition is None and c.confirm]
+    named = {c.name for c in claimed}
+    # a switch effect whose generic counterpart is confirmed adds nothing to the verdict
+    possible = [c for c in candidates if c.applicable and c.significant and c.addition is None and c.confirm
+                and not any(f"generic {n} " in c.would_test + " " for n in named)]
+    more = len(possible) - 3
+    possible = possible[:3]
     parts = []
     if claimed:
         def shrink(c):
@@ -152,7 +157,8 @@ def verdict(candidates) -> str:
         parts.append("no significant unmodelled effect" if not possible else "no confirmed unmodelled effect")
     if possible:
         parts.append("possible, this model cannot take it: " + "; ".join(
-            f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible))
+            f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible)
+            + (f"; and {more} more (part 2)" if more > 0 else ""))
     return "; ".join(parts)
 
 
