@@ -226,6 +226,9 @@ class EffectParameter:
     neutral: float | None = None
     """The value at which the effect does nothing (a gain of 1, an offset of 0); None: the
     lower bound is the weak end."""
+    screen: tuple[float, ...] = ()
+    """Values the screening tries (default: 20 % and 80 % of the range); an effect whose
+    response is far from linear in the parameter (a time shift) names its own."""
 
 
 @dataclass(frozen=True)

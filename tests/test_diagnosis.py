@@ -128,6 +128,21 @@ def test_blind_heat_loss_absorbed_by_a_tuner_is_still_confirmed(tmp_path):
     assert loss["start"]["scaleHPQCon_nominal"] > data["parameters"]["scaleHPQCon_nominal"], loss["start"]
 
 
+PHYSICAL = ("start_up_lag", "start_up_inertia", "post_run", "sensor_lag", "heat_loss", "cycling", "defrost", "backup_heater")
+
+
+@pytest.mark.parametrize("model, sensor", [
+    ("air_source_hp", {"THCFlow_K": (1.0, 1.0)}),     # the flow sensor reads 1 K high
+    ("water_to_water_hp", {"PEl_W": (0.0, 1.15)}),    # the power meter reads 15 % high
+])
+def test_a_pure_sensor_error_is_claimed_as_the_sensor_never_as_physics(tmp_path, model, sensor):
+    case = BlindCase(model, "sensor_offset_gain", sensor=sensor, seed=4, population=12, generations=4,
+                     seasons=("autumn", "autumn") if model == "air_source_hp" else None)
+    result = run_case(case, tmp_path / model, candidates=2)
+    assert not set(result["claimed"]) & set(PHYSICAL), result
+    assert result["claimed"][:1] == ["sensor_offset_gain"], result
+
+
 def test_null_case_claims_nothing_and_cli_errors(tmp_path):
     from simgap.calibrate import calibrate
     from simgap.setup import prepare

@@ -261,6 +261,9 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3) -> list[di
     typical = {p.name: p.default for p in addition.parameters}
     settings = [typical]
     for p in addition.parameters[:per_parameter]:
+        if p.screen:
+            settings += [{**typical, p.name: float(v)} for v in p.screen]
+            continue
         for q in (0.2, 0.8):
             if p.scale == "log" and p.lower > 0:
                 value = math.exp(math.log(p.lower) + q * (math.log(p.upper) - math.log(p.lower)))

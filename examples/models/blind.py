@@ -67,6 +67,9 @@ _WORKFLOW_SHAPE = {
 }
 
 
+SENSOR_EFFECTS = ("sensor_offset_gain",)
+"""Withheld effects realised on the written data (a sensor's), not by a model switch."""
+
 _SEGMENTS = {"training": {"start": "2%", "end": "50%"}, "validation": {"start": "50%", "end": "100%"}}
 
 
@@ -79,6 +82,10 @@ class BlindCase:
     also: tuple[str, ...] = ()
     """Further effects withheld at the same time (a combination case), at their visible strength."""
     seed: int = 1
+    sensor: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    """Per measured column, (offset, gain) of its sensor: with ``effect='sensor_offset_gain'``
+    the withheld effect is a sensor's, not a physical one (read = gain * value + offset, for a
+    temperature in K: gain about 0 degC)."""
     seasons: tuple[str, ...] | None = None
     days: int | None = None
     noise_scale: float = 1.0
@@ -92,7 +99,8 @@ class BlindCase:
     @property
     def label(self) -> str:
         what = "+".join(self.withheld) or "null"
-        extra = ",".join(f"{k}={v:g}" for k, v in self.strength.items())
+        extra = ",".join([f"{k}={v:g}" for k, v in self.strength.items()]
+                         + [f"{k}{o:+g}x{g:g}" for k, (o, g) in self.sensor.items()])
         return f"{self.model}:{what}{'(' + extra + ')' if extra else ''}:seed{self.seed}"
 
 
@@ -104,7 +112,7 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     spec = synth.MODELS[case.model]
     truth = dict(BLIND_TUNERS[case.model])
     strength = {**VISIBLE_STRENGTH.get(case.model, {}).get(case.effect or "", {}), **case.strength}
-    effects = {case.effect: strength} if case.effect else {}
+    effects = {case.effect: strength} if case.effect and case.effect not in SENSOR_EFFECTS else {}
     for other in case.also:
         effects[other] = dict(VISIBLE_STRENGTH.get(case.model, {}).get(other, {}))
     effects = effects or None
@@ -120,6 +128,14 @@ def write_case(case: BlindCase, folder: Path) -> Path:
         noise=noise,
         seed=case.seed,
     )
+    if case.sensor:
+        import pandas as pd
+
+        frame = pd.read_parquet(data.data_path)
+        for column, (offset, gain) in case.sensor.items():
+            zero = 273.15 if column.endswith("_K") else 0.0
+            frame[column] = zero + gain * (frame[column] - zero) + offset
+        frame.to_parquet(data.data_path)
     inputs = {name: name for name in spec.inputs}
     if case.model == "water_to_water_hp":
         inputs = {name: name for name in ("TOda_K", "HGloHor_W_m2", "dTZoneSetShift_K")}
@@ -185,7 +201,8 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     withheld = case.withheld
     truth_shrink = recal.get("gap_shrink")
     beyond = recal.get("gap_shrink_vs_control")
-    closed = _gap_closed(case, workflow, recal) if recal.get("after") else None
+    # the truth of a sensor effect is no model setting: there is no floor to close the gap to
+    closed = _gap_closed(case, workflow, recal) if recal.get("after") and case.effect not in SENSOR_EFFECTS else None
     return {
         "case": case.label,
         "model": case.model,

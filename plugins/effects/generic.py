@@ -116,7 +116,10 @@ class ClockShift(_Around):
         dt = data.sample_interval
         span = 4.0 * dt
         name = "clockShift"
-        param = (P(name, 0.0, -span, span, "s", neutral=0.0),)
+        # a shift's response is far from linear in it: screened at half, one, two and three
+        # sample intervals either way
+        screen = tuple(sign * k * dt for k in (0.5, 1.0, 2.0, 3.0) for sign in (-1.0, 1.0))
+        param = (P(name, 0.0, -span, span, "s", neutral=0.0, screen=screen),)
         variables = list(dict.fromkeys(data.variable_of(t) for t in data.simulated))
         # one shift for every target; its tuner is listed once
         return [({"apply": "output_shift", "variable": v, "seconds": name}, param if i == 0 else ()) for i, v in enumerate(variables)]
