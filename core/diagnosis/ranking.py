@@ -214,6 +214,27 @@ def shift_p_value(observed: float, null: np.ndarray) -> float:
     return float(min(counted, beta.sf(observed, mean * common, (1.0 - mean) * common)))
 
 
+def bias_test(r: np.ndarray) -> tuple[float, float]:
+    """(share of the mean square that is bias, two-sided p of a zero mean) with a Newey-West
+    variance, so an autocorrelated residual is not counted as independent samples."""
+    from scipy.stats import norm
+
+    r = r[np.isfinite(r)]
+    n = r.size
+    if n < 3 or not float(r @ r) > 0:
+        return 0.0, 1.0
+    mean = float(r.mean())
+    x = r - mean
+    lags = int(n ** (1.0 / 3.0))
+    variance = float(x @ x) / n
+    for lag in range(1, lags + 1):
+        variance += 2.0 * (1.0 - lag / (lags + 1.0)) * float(x[lag:] @ x[:-lag]) / n
+    share = mean * mean / (float(r @ r) / n)
+    if variance <= 0:
+        return share, 0.0 if mean != 0 else 1.0
+    return share, float(2.0 * norm.sf(abs(mean) / np.sqrt(variance / n)))
+
+
 @dataclass
 class Nuisance:
     """Per target: the tuners' sensitivity columns (what recalibration alone could absorb)."""
@@ -362,8 +383,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         responses = [change for _, change in cand.responses]
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
-        by_target = offset_targets if getattr(effect, "keeps_offset", False) else prepared_targets
-        for t, (mask, N, rt) in by_target.items():
+        keeps_offset = getattr(effect, "keeps_offset", False)
+        for t, (mask, N, rt) in prepared_targets.items():
             if not responses and about is not None and t not in about:
                 continue
             # the simulated change is the sharper signature; the declared features stand in
@@ -379,6 +400,15 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             else:
                 names, X = _standardise(dict(features), mask)
                 observed, chance, p, fitted = shift_test(rt, _clear(X, N))
+            if keeps_offset:
+                # a constant cannot be tested by shifting it in time: the bias that re-tuning
+                # leaves (tuners cleared, the constant kept) gets its own test, paid for by a
+                # factor of two
+                bias_share, bias_p = bias_test(offset_targets[t][2])
+                if bias_share > observed - chance:
+                    observed, chance = bias_share, 0.0
+                    fitted = np.full(len(rt), float(np.mean(offset_targets[t][2])))
+                p = min(1.0, 2.0 * min(p, bias_p))
             full = np.full(len(mask), np.nan)
             full[mask] = fitted
             cand.fitted[t] = full

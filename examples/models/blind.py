@@ -67,7 +67,7 @@ _WORKFLOW_SHAPE = {
 }
 
 
-SENSOR_EFFECTS = ("sensor_offset_gain",)
+SENSOR_EFFECTS = ("sensor_offset_gain", "sensor_time_constant", "clock_shift")
 """Withheld effects realised on the written data (a sensor's), not by a model switch."""
 
 _SEGMENTS = {"training": {"start": "2%", "end": "50%"}, "validation": {"start": "50%", "end": "100%"}}
@@ -86,6 +86,18 @@ class BlindCase:
     """Per measured column, (offset, gain) of its sensor: with ``effect='sensor_offset_gain'``
     the withheld effect is a sensor's, not a physical one (read = gain * value + offset, for a
     temperature in K: gain about 0 degC)."""
+    lag: Mapping[str, float] = field(default_factory=dict)
+    """Per measured column, the time constant (s) of a slow sensor written onto the data
+    (``effect='sensor_time_constant'``)."""
+    shift_s: float = 0.0
+    """The logger's clock late by this many seconds on every target (``effect='clock_shift'``)."""
+    truth: Mapping[str, float] = field(default_factory=dict)
+    """True tuner values replacing BLIND_TUNERS' (a tuner at its bound)."""
+    scramble: bool = False
+    """Replace every target by white noise around its mean with its spread: data that hold
+    nothing a model could explain (a null case)."""
+    resolution: float | None = None
+    missing_fraction: float = 0.0
     seasons: tuple[str, ...] | None = None
     days: int | None = None
     noise_scale: float = 1.0
@@ -94,13 +106,21 @@ class BlindCase:
 
     @property
     def withheld(self) -> list[str]:
-        return ([self.effect] if self.effect else []) + list(self.also)
+        out = ([self.effect] if self.effect else []) + list(self.also)
+        for name, present in (("sensor_offset_gain", self.sensor), ("sensor_time_constant", self.lag), ("clock_shift", self.shift_s)):
+            if present and name not in out:
+                out.append(name)
+        return out
 
     @property
     def label(self) -> str:
         what = "+".join(self.withheld) or "null"
         extra = ",".join([f"{k}={v:g}" for k, v in self.strength.items()]
-                         + [f"{k}{o:+g}x{g:g}" for k, (o, g) in self.sensor.items()])
+                         + [f"{k}{o:+g}x{g:g}" for k, (o, g) in self.sensor.items()]
+                         + [f"{k}tau{v:g}" for k, v in self.lag.items()] + ([f"shift{self.shift_s:g}s"] if self.shift_s else [])
+                         + [f"{k}={v:g}" for k, v in self.truth.items()] + (["noise-only"] if self.scramble else [])
+                         + ([f"res{self.resolution:g}s"] if self.resolution else [])
+                         + ([f"gaps{self.missing_fraction:g}"] if self.missing_fraction else []))
         return f"{self.model}:{what}{'(' + extra + ')' if extra else ''}:seed{self.seed}"
 
 
@@ -110,7 +130,7 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     shape = _WORKFLOW_SHAPE[case.model]
     spec = synth.MODELS[case.model]
-    truth = dict(BLIND_TUNERS[case.model])
+    truth = {**BLIND_TUNERS[case.model], **case.truth}
     strength = {**VISIBLE_STRENGTH.get(case.model, {}).get(case.effect or "", {}), **case.strength}
     effects = {case.effect: strength} if case.effect and case.effect not in SENSOR_EFFECTS else {}
     for other in case.also:
@@ -122,20 +142,15 @@ def write_case(case: BlindCase, folder: Path) -> Path:
         case.model,
         seasons=case.seasons or shape["seasons"],
         days_per_season=case.days or shape["days"],
-        resolution=shape["resolution"],
+        resolution=case.resolution or shape["resolution"],
+        missing_fraction=case.missing_fraction,
         parameters=truth,
         effects=effects,
         noise=noise,
         seed=case.seed,
     )
-    if case.sensor:
-        import pandas as pd
-
-        frame = pd.read_parquet(data.data_path)
-        for column, (offset, gain) in case.sensor.items():
-            zero = 273.15 if column.endswith("_K") else 0.0
-            frame[column] = zero + gain * (frame[column] - zero) + offset
-        frame.to_parquet(data.data_path)
+    if case.sensor or case.lag or case.shift_s or case.scramble:
+        _rewrite(data.data_path, case, [name for name, _ in shape["targets"]])
     inputs = {name: name for name in spec.inputs}
     if case.model == "water_to_water_hp":
         inputs = {name: name for name in ("TOda_K", "HGloHor_W_m2", "dTZoneSetShift_K")}
@@ -180,6 +195,35 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     return path
 
 
+def _rewrite(path: Path, case: BlindCase, targets: list[str]) -> None:
+    """Effects of the sensors and the logger, written onto the measured file."""
+    import numpy as np
+    import pandas as pd
+
+    from simgap.around import _lag
+
+    frame = pd.read_parquet(path)
+    seconds = (pd.to_datetime(frame["time"]) - pd.to_datetime(frame["time"]).iloc[0]).dt.total_seconds().to_numpy()
+    for column, tau in case.lag.items():
+        values = frame[column].to_numpy(dtype=float)
+        ok = np.isfinite(values)
+        frame.loc[ok, column] = _lag(values[ok], seconds[ok], tau)
+    if case.shift_s:
+        for column in targets:
+            values = frame[column].to_numpy(dtype=float)
+            ok = np.isfinite(values)
+            frame.loc[ok, column] = np.interp(seconds[ok] - case.shift_s, seconds[ok], values[ok])
+    for column, (offset, gain) in case.sensor.items():
+        zero = 273.15 if column.endswith("_K") else 0.0
+        frame[column] = zero + gain * (frame[column] - zero) + offset
+    if case.scramble:
+        rng = np.random.default_rng(case.seed + 1000)
+        for column in targets:
+            values = frame[column].to_numpy(dtype=float)
+            frame[column] = np.nanmean(values) + np.nanstd(values) * rng.normal(size=len(values))
+    frame.to_parquet(path)
+
+
 def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2) -> dict:
     """Write, calibrate and diagnose one case blind; score the diagnosis against the truth."""
     import time
@@ -192,7 +236,8 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     workflow = write_case(case, folder)
     run_dir = calibrate(prepare(workflow), workers=workers)
     t1 = time.perf_counter()
-    overrides = {"recalibrate": {"candidates": candidates, "population": case.population, "generations": case.generations, "workers": workers}}
+    overrides = {"iterations": len(case.withheld) if len(case.withheld) > 1 else 1,
+                 "recalibrate": {"candidates": candidates, "population": case.population, "generations": case.generations, "workers": workers}}
     result = diagnose(run_dir, overrides=overrides, progress=None)
     t2 = time.perf_counter()
     ranking = result["ranking"]
@@ -214,7 +259,9 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         # a combination: the first claim is one of the withheld effects, and every one of them is claimed
         "withheld": withheld,
         "first_claim_withheld": bool(claimed) and claimed[0] in withheld,
-        "all_claimed": bool(withheld) and set(withheld) <= set(claimed),
+        # claimed in the first round or one round after another (the chain)
+        "all_claimed": bool(withheld) and set(withheld) <= set(claimed) | {link["effect"] for link in result.get("chain", [])},
+        "chain": [link["effect"] for link in result.get("chain", [])],
         "shrink": truth_shrink,
         "closed": closed,
         "beyond_control": beyond,
