@@ -9,18 +9,18 @@ def non_dominated(F: np.ndarray) -> np.ndarray:
     """Boolean mask of the rows of ``F`` (n, k) that no other row dominates (minimisation).
 
     Rows with a non-finite value are never on the front; of identical rows only the first is kept.
+    The sweep is moocore's compiled O(n log n) one for up to 3 objectives (100k rows in
+    milliseconds, where a Python loop over the rows took seconds; benchmarks/front.py).
     """
+    import moocore  # compiled; imported here so `import simgap` stays light
+
     F = np.asarray(F, dtype=float)
-    n = len(F)
-    keep = np.all(np.isfinite(F), axis=1)
-    order = np.lexsort(F.T[::-1])  # sorted by first objective: a dominator comes earlier
-    front = np.empty((0, F.shape[1]))
-    mask = np.zeros(n, dtype=bool)
-    for i in order:
-        # an equal row counts as dominating, so of duplicates the earlier one stays
-        if keep[i] and not np.all(front <= F[i], axis=1).any():
-            front = np.vstack([front, F[i]])
-            mask[i] = True
+    mask = np.zeros(len(F), dtype=bool)
+    finite = np.flatnonzero(np.all(np.isfinite(F), axis=1))
+    if len(finite) == 0 or F.shape[1] == 0:
+        return mask
+    # keep_weakly=False keeps the first of identical rows, as the front always has
+    mask[finite] = moocore.is_nondominated(F[finite], keep_weakly=False)
     return mask
 
 

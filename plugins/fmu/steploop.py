@@ -14,6 +14,7 @@ step in Python and after every chunk when compiled.
 from __future__ import annotations
 
 import ctypes
+import math
 import threading
 import time
 import warnings
@@ -45,27 +46,43 @@ def compiled_loop_in_use() -> bool:
 def run(rt, prepared, deadline: float) -> None:
     """Step the instance through the prepared case, filling ``prepared.output_buffer`` rows 0..n-1."""
     n = prepared.n_steps
+    if _compiled_loop() is not None:
+        _run_compiled(rt, prepared, n, deadline)
+        return
     _run_segment(rt, prepared, 0, n - 1, prepared.step_size, deadline)
     _run_segment(rt, prepared, n - 1, n, prepared.last_step_size, deadline)
+
+
+def _run_compiled(rt, prepared, n: int, deadline: float) -> None:
+    # Without a deadline the whole simulation is one compiled call; with one, chunks of about
+    # CHUNK_SECONDS so the deadline is checked between them.
+    loop = _state.compiled
+    if deadline == math.inf:
+        _compiled_chunk(loop, rt, prepared, 0, n)
+        return
+    chunk, k, monotonic = min(rt.chunk_steps, _MAX_CHUNK), 0, time.monotonic
+    while k < n:
+        end = min(n, k + chunk)
+        started = time.perf_counter()
+        _compiled_chunk(loop, rt, prepared, k, end)
+        if monotonic() > deadline:
+            _timeout(prepared, end)
+        elapsed = time.perf_counter() - started
+        if elapsed > 0:
+            chunk = max(1, min(_MAX_CHUNK, int((end - k) * CHUNK_SECONDS / elapsed)))
+        k = end
+    rt.chunk_steps = chunk
 
 
 def _run_segment(rt, prepared, first: int, last: int, step: float, deadline: float) -> None:
     chunk = rt.chunk_steps
     k = first
-    monotonic = time.monotonic
     while k < last:
         end = min(last, k + chunk)
-        loop = _compiled_loop()
         started = time.perf_counter()
-        if loop is not None:
-            _compiled_chunk(loop, rt, prepared, k, end, step)
-            if monotonic() > deadline:
-                _timeout(prepared, end)
-        else:
-            _python_chunk(rt, prepared, k, end, step, deadline)
+        _python_chunk(rt, prepared, k, end, step, deadline)
         elapsed = time.perf_counter() - started
-        if loop is None:
-            _state.python_seconds += elapsed
+        _state.python_seconds += elapsed
         if elapsed > 0:
             chunk = max(1, min(_MAX_CHUNK, int((end - k) * CHUNK_SECONDS / elapsed)))
         k = end
@@ -98,14 +115,14 @@ def _python_chunk(rt, prepared, first: int, last: int, step: float, deadline: fl
             _timeout(prepared, k + 1)
 
 
-def _compiled_chunk(loop, rt, prepared, first: int, last: int, step: float) -> None:
+def _compiled_chunk(loop, rt, prepared, first: int, last: int) -> None:
     inputs, outputs = prepared.input_values, prepared.output_buffer
     set_real, get_real, do_step = rt.function_addresses()
     k, which, status = loop(
         set_real,
         get_real,
         do_step,
-        rt.component,
+        rt.component or 0,
         prepared.input_vr.ctypes.data,
         inputs.shape[1],
         inputs.ctypes.data,
@@ -116,7 +133,8 @@ def _compiled_chunk(loop, rt, prepared, first: int, last: int, step: float) -> N
         outputs.strides[0],
         prepared.model_start,
         prepared.step_size,
-        step,
+        prepared.last_step_size,
+        prepared.n_steps,
         first,
         last,
     )
@@ -145,64 +163,15 @@ def _compiled_loop():
 
 
 def _build_compiled_loop():
-    import numpy as np
-    from numba import njit
+    from . import steploop_compiled  # imports numba: only once the Python loop has run long enough
 
-    @njit(cache=True, nogil=True)
-    def loop(set_real, get_real, do_step, component, input_vr, n_inputs, in_base, in_stride,
-             output_vr, n_outputs, out_base, out_stride, t0, h, step, first, last):
-        for k in range(first, last):
-            if n_inputs:
-                status = set_real(component, input_vr, n_inputs, in_base + k * in_stride)
-                if status > 1:
-                    return k, 1, status
-            status = get_real(component, output_vr, n_outputs, out_base + k * out_stride)
-            if status > 1:
-                return k, 2, status
-            status = do_step(component, t0 + k * h, step, np.int32(1))
-            if status > 1:
-                return k, 3, status
-        return last, 0, 0
-
-    return loop
-
-
-_address_class = None
+    return steploop_compiled.loop
 
 
 def function_addresses(dll) -> tuple:
-    """Numba-callable fmi2SetReal, fmi2GetReal, fmi2DoStep of a loaded FMU library.
-
-    Pointers and ``size_t`` are declared as ``intp``: the same registers on 64-bit platforms,
-    and numba then takes the precomputed row addresses as plain integers.
-    """
-    global _address_class
-    from numba import types
-    import numba.experimental.function_type  # noqa: F401  (registers typeof for these objects)
-
-    if _address_class is None:
-
-        class FunctionAddress(types.WrapperAddressProtocol):
-            def __init__(self, address: int, signature):
-                self._address = address
-                self._signature = signature
-
-            def __wrapper_address__(self) -> int:
-                return self._address
-
-            def signature(self):
-                return self._signature
-
-        _address_class = FunctionAddress
-
-    real_io = types.int32(types.intp, types.intp, types.intp, types.intp)
-    do_step = types.int32(types.intp, types.float64, types.float64, types.int32)
+    """Addresses of fmi2SetReal, fmi2GetReal, fmi2DoStep of a loaded FMU library, as plain integers."""
 
     def address(name: str) -> int:
         return ctypes.cast(getattr(dll, name), ctypes.c_void_p).value
 
-    return (
-        _address_class(address("fmi2SetReal"), real_io),
-        _address_class(address("fmi2GetReal"), real_io),
-        _address_class(address("fmi2DoStep"), do_step),
-    )
+    return address("fmi2SetReal"), address("fmi2GetReal"), address("fmi2DoStep")
