@@ -285,16 +285,18 @@ def calibrate(
         frame = store.frame()
         pareto = _pareto(frame, store)
         featured = _featured(pareto, store)
-        series = {}
+        series, probe = {}, None
         if len(pareto):
             scoring = "; scoring them on validation data" if prepared.validation is not None else ""
             progress.message(f"front: {len(pareto)} solutions{scoring}")
             pareto, series = _validate(prepared, executor, pareto, featured, next_id)
+            probe = _probe(prepared, executor, pareto, next_id)
         store.write_pareto(pareto)
 
     summary = _summary(prepared, store, frame, pareto, featured, run_id, started, t_start, loop_wall, n_workers, stop_reason)
     if replay is not None:
         summary["resumed"] = {"evaluations_from_log": replayed, "evaluations_now": len(store) - replayed}
+    _trust(prepared, summary, frame, pareto, series, run_dir, probe)
     store.write_summary(summary)
     from .plots import write_plots  # matplotlib is slow to import; only when needed
 
@@ -408,3 +410,32 @@ def _summary(prepared, store, frame, pareto, featured, run_id, started, t_start,
         "plugins": prepared.plugins_used,
         "notes": prepared.notes,
     }
+
+
+def _probe(prepared, executor, pareto, first_id):
+    """Extra simulations around the knee for the identifiability report (never fails the run)."""
+    from . import identifiability
+
+    knee = pareto.loc[pareto["knee"]].iloc[0]
+    try:
+        return identifiability.local_probe(prepared, executor, {n: float(knee[PARAM + n]) for n in prepared.space.names}, first_id)
+    except (ValueError, np.linalg.LinAlgError):  # degenerate residuals: the log-based report stands alone
+        return None
+
+
+def _trust(prepared, summary, frame, pareto, series, run_dir, probe=None) -> None:
+    """Result warnings and the identifiability report (docs/trust.md) into the summary's notes."""
+    from . import identifiability
+    from .notes import run_notes
+
+    space = prepared.space
+    bounds = {n: (float(lo), float(hi)) for n, lo, hi in zip(space.names, space.lower, space.upper)}
+    report = identifiability.from_run(frame, pareto, space.names, summary["objectives"], bounds)
+    if report is not None:
+        report = identifiability.merge_local(report, probe)
+    notes = run_notes(prepared, summary, series)
+    if report is not None:
+        identifiability.write(report, run_dir)
+        summary["identifiability"] = report.as_dict()
+        notes += report.notes()
+    summary["notes"] = list(summary.get("notes") or []) + notes

@@ -142,6 +142,8 @@ def _report_run(run_dir):
         for kind in ("training", "validation"):
             if kind in knee:
                 click.echo(f"  {kind}: " + ", ".join(f"{k} {v:.4g}" for k, v in knee[kind].items()))
+    for note in s.get("notes") or []:  # result warnings (docs/trust.md)
+        click.echo(f"note: {note}")
     click.echo(f"results: {run_dir}")
 
 

@@ -1,0 +1,365 @@
+"""Which tuners the data pin down: an identifiability report from a run's evaluation log.
+
+No extra simulations. The *near-optimal set* is every successful evaluation within a tolerance
+of the front: ``F_j <= F_j(f) * (1 + tolerance)`` in every objective j for some front point f
+(10 % by default: with noisy data the best errors sit on the noise floor, and a tenth of it is
+well inside what another noise draw would change). If a tuner takes values over a large part of its
+range inside that set, the data cannot tell those values apart: it is not identifiable. Where
+a few tuners move together inside the set, a combination of them may still be determined; we
+look for it pairwise on the tuners' own scales (log for positive bounds): a straight line
+``log a = c + b log b`` that explains the set's spread says ``a / b**b`` is determined (a ratio
+for b = 1, a product for b = -1).
+
+Caveat, said in the report: the log holds what the optimiser chose to evaluate. An optimiser
+that converges to one point of a flat valley under-reports the spread; the report can miss a
+non-identifiable tuner but does not invent one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .front import non_dominated
+
+TOLERANCE = 0.10
+"""Near-optimal: within this share of a front point's value in every objective."""
+SPREAD_LIMIT = 0.25
+"""A tuner whose near-optimal values cover more than this share of its range is flagged."""
+MIN_NEAR = 8
+"""Fewer near-optimal evaluations than this say nothing either way."""
+COMBINATION_R2 = 0.95
+"""A pairwise log-linear relation explaining at least this share of the variance is a combination."""
+TABLE = "identifiability.csv"
+PLOT = "identifiability.png"
+
+
+@dataclass
+class TunerReport:
+    name: str
+    knee: float
+    low: float
+    high: float
+    spread: float
+    """Share of the tuner's range (on its own scale) the near-optimal set covers (5-95 %)."""
+    identifiable: bool
+
+
+@dataclass
+class Combination:
+    tuners: tuple[str, str]
+    exponent: float
+    """``tuners[0] / tuners[1] ** exponent`` is determined (exponent on each tuner's own scale)."""
+    r2: float
+    spread: float
+    """Relative spread (5-95 %) of the combination in the near-optimal set."""
+
+    @property
+    def text(self) -> str:
+        a, b = self.tuners
+        e = self.exponent
+        if abs(e - 1) < 1e-9:
+            return f"{a}/{b}"
+        if abs(e + 1) < 1e-9:
+            return f"{a}·{b}"
+        if e < 0:
+            return f"{a}·{b}^{-e:g}"
+        return f"{a}/{b}^{e:g}"
+
+
+@dataclass
+class Report:
+    tolerance: float
+    near: int
+    tuners: list[TunerReport] = field(default_factory=list)
+    combinations: list[Combination] = field(default_factory=list)
+    correlation: pd.DataFrame | None = None
+    near_values: pd.DataFrame | None = None
+    local: bool = False
+    """True when the local probe (extra simulations around the knee) widened the report."""
+
+    @property
+    def flagged(self) -> list[str]:
+        return [t.name for t in self.tuners if not t.identifiable]
+
+    def notes(self) -> list[str]:
+        if not self.flagged:
+            return []
+        spans = ", ".join(f"{t.name} takes {t.low:.4g}–{t.high:.4g}" for t in self.tuners if not t.identifiable)
+        text = (
+            f"identifiability: {spans} at the same error (within {100 * self.tolerance:g} % of the front in every "
+            f"objective, {self.near} evaluations); these tuners are not identifiable from these data"
+        )
+        if self.combinations:
+            text += "; determined: " + ", ".join(f"{c.text} (±{100 * c.spread / 2:.1f} %)" for c in self.combinations)
+        else:
+            text += "; no pairwise combination of them is determined either"
+        return [text]
+
+    def as_dict(self) -> dict:
+        return {
+            "tolerance": self.tolerance,
+            "near_optimal": self.near,
+            "not_identifiable": self.flagged,
+            "local_probe": self.local,
+            "tuners": [t.__dict__ for t in self.tuners],
+            "determined_combinations": [
+                {"combination": c.text, "tuners": list(c.tuners), "exponent": c.exponent, "r2": c.r2, "relative_spread": c.spread}
+                for c in self.combinations
+            ],
+        }
+
+
+def _scale(values: np.ndarray, low: float, high: float) -> tuple[np.ndarray, float, float, bool]:
+    """Values on the tuner's own scale: log when the bounds are positive (ratios matter)."""
+    if low > 0:
+        return np.log(values), math.log(low), math.log(high), True
+    return values, low, high, False
+
+
+def near_optimal(objectives: np.ndarray, front: np.ndarray, tolerance: float = TOLERANCE) -> np.ndarray:
+    """Mask of rows within ``tolerance`` (a share) of some front point in every objective."""
+    front = np.atleast_2d(front)
+    limit = front + np.abs(front) * tolerance + 1e-12  # (m, k): one box per front point
+    inside = np.all(objectives[:, None, :] <= limit[None, :, :], axis=2).any(axis=1)
+    return inside & np.all(np.isfinite(objectives), axis=1)
+
+
+def analyse(
+    params: pd.DataFrame,
+    objectives: np.ndarray,
+    knee_row: int,
+    bounds: dict[str, tuple[float, float]],
+    tolerance: float = TOLERANCE,
+) -> Report:
+    """Identifiability of each tuner (columns of ``params``, rows = successful evaluations)."""
+    front = objectives[non_dominated(objectives)]
+    mask = near_optimal(objectives, front, tolerance)
+    near = params[mask]
+    report = Report(tolerance=tolerance, near=int(mask.sum()), near_values=near)
+    if report.near < MIN_NEAR:
+        return report
+    scaled = {}
+    for name in params.columns:
+        low, high = bounds[name]
+        v, lo, hi, _ = _scale(near[name].to_numpy(dtype=float), low, high)
+        scaled[name] = v
+        q5, q95 = np.quantile(v, [0.05, 0.95])
+        spread = float((q95 - q5) / (hi - lo))
+        report.tuners.append(
+            TunerReport(
+                name=name,
+                knee=float(params[name].iloc[knee_row]),
+                low=float(np.quantile(near[name], 0.05)),
+                high=float(np.quantile(near[name], 0.95)),
+                spread=spread,
+                identifiable=spread <= SPREAD_LIMIT,
+            )
+        )
+    frame = pd.DataFrame(scaled)
+    report.correlation = frame.corr() if len(frame) > 2 else None
+    report.combinations = _combinations(frame, report.flagged)
+    return report
+
+
+def _combinations(scaled: pd.DataFrame, flagged: list[str]) -> list[Combination]:
+    """Pairs of flagged tuners whose log-linear combination is tight in the near-optimal set."""
+    found = []
+    for i, a in enumerate(flagged):
+        for b in flagged[i + 1 :]:
+            x, y = scaled[b].to_numpy(), scaled[a].to_numpy()
+            if np.std(x) == 0 or np.std(y) == 0:
+                continue
+            slope, intercept = np.polyfit(x, y, 1)
+            residual = y - (intercept + slope * x)
+            r2 = 1 - residual.var() / y.var()
+            if r2 < COMBINATION_R2:
+                continue
+            exponent = _simple(slope)
+            combined = y - exponent * x
+            q5, q95 = np.quantile(combined, [0.05, 0.95])
+            found.append(Combination((a, b), exponent, float(r2), float(math.exp(q95 - q5) - 1)))
+    return found
+
+
+def _simple(slope: float) -> float:
+    """The exponent as a simple fraction when it is one (1, -1, 0.5, 2 ...)."""
+    for candidate in (1.0, -1.0, 0.5, -0.5, 2.0, -2.0, 1 / 3, -1 / 3, 3.0, -3.0):
+        if abs(slope - candidate) <= 0.1 * abs(candidate):
+            return candidate
+    return round(float(slope), 2)
+
+
+PROBE_STEP = 0.01
+"""Finite-difference step of the local probe, as a share of each tuner's range (its own scale)."""
+
+
+def local_probe(prepared, executor, knee: dict[str, float], first_id: int) -> dict | None:
+    """The near-optimal set around the knee from 2d+1 extra simulations (central differences).
+
+    The log only holds what the optimiser chose to try, and an optimiser that converged into a
+    flat valley leaves a tight cluster. Here the residuals r (each target's measured minus
+    simulated, divided by its RMSE at the knee and sqrt(n)) are differentiated in the unit
+    coordinates u of the tuners (log for log-scale tuners); with H = JᵀJ the set where the sum
+    of squares rises by at most ΔS = 2·tolerance per target is the ellipsoid δᵀHδ ≤ ΔS, whose
+    half-extent along tuner i is sqrt(ΔS·(H⁻¹)ᵢᵢ) (Gauss–Newton; a flat direction has λ ≈ 0
+    and spans the whole range).
+    """
+    from .evaluation import STATUS_OK
+
+    space = prepared.space
+    setup = prepared.training
+    names = list(space.names)
+    d = len(names)
+    u0 = space.to_unit(np.array([[knee[n] for n in names]]))[0]
+    points = [u0]
+    for i in range(d):
+        for sign in (1, -1):
+            u = u0.copy()
+            u[i] = u0[i] + sign * PROBE_STEP
+            points.append(u)
+    # stay inside the box: shift a step that would leave it to the other side of the knee
+    points = [np.clip(p, 0.0, 1.0) for p in points]
+    values = space.from_unit(np.array(points))
+    handle = executor.share(setup)
+    rows = executor.run(setup, handle, list(zip(range(first_id, first_id + len(points)), space.as_dicts(values))), keep_series=True)
+    if any(r["status"] != STATUS_OK for r in rows):
+        return None
+
+    def residuals(row):
+        parts = []
+        for t in setup.targets:
+            m = np.asarray(t.measured, dtype=float).ravel()
+            sim = np.asarray(row["series"][t.name], dtype=float).ravel()
+            ok = np.isfinite(m)
+            parts.append((m[ok] - sim[ok], ok.sum()))
+        return parts
+
+    base = residuals(rows[0])
+    scales = [max(float(np.sqrt(np.mean(r**2))), 1e-12) * math.sqrt(n) for r, n in base]
+
+    def vector(row):
+        return np.concatenate([r / s for (r, _), s in zip(residuals(row), scales)])
+
+    J = np.empty((len(vector(rows[0])), d))
+    for i in range(d):
+        up, down = rows[1 + 2 * i], rows[2 + 2 * i]
+        du = points[1 + 2 * i][i] - points[2 + 2 * i][i]
+        J[:, i] = (vector(up) - vector(down)) / du if du else 0.0
+    H = J.T @ J
+    lam, V = np.linalg.eigh(H)
+    floor = max(lam.max(), 1e-300) * 1e-12
+    H_inv = V @ np.diag(1.0 / np.maximum(lam, floor)) @ V.T
+    delta_s = 2 * TOLERANCE * len(setup.targets)
+    half = np.sqrt(np.maximum(delta_s * np.diag(H_inv), 0.0))
+    return {"names": names, "knee_unit": u0, "half_extent": half, "H_inv": H_inv, "delta_s": delta_s,
+            "eigenvalues": lam.tolist(), "log": space.log.tolist(), "lower": space.lower, "upper": space.upper}
+
+
+def merge_local(report: Report, probe: dict | None) -> Report:
+    """Widen the log-based report with the local probe: a tuner is not identifiable if either
+    says so; determined combinations of flagged tuners come from the probe's ellipsoid."""
+    if probe is None:
+        return report
+    names = probe["names"]
+    by_name = {t.name: t for t in report.tuners}
+    for i, name in enumerate(names):
+        half = float(probe["half_extent"][i])
+        spread = min(1.0, 2 * half)
+        u = probe["knee_unit"][i]
+        lo_u, hi_u = max(0.0, u - half), min(1.0, u + half)
+        lo, hi = _from_unit(probe, i, lo_u), _from_unit(probe, i, hi_u)
+        t = by_name.get(name)
+        if t is None:
+            t = TunerReport(name, _from_unit(probe, i, u), lo, hi, spread, spread <= SPREAD_LIMIT)
+            report.tuners.append(t)
+            by_name[name] = t
+        elif spread > t.spread:
+            t.spread, t.low, t.high = spread, min(t.low, lo), max(t.high, hi)
+            t.identifiable = t.spread <= SPREAD_LIMIT
+    flagged = [n for n in report.flagged if n in names]
+    H_inv, delta_s = probe["H_inv"], probe["delta_s"]
+    combos = []
+    for x, a in enumerate(flagged):
+        for b in flagged[x + 1 :]:
+            i, j = names.index(a), names.index(b)
+            e = H_inv[i, j] / H_inv[j, j]  # u_a - e·u_b has the smallest extent
+            w = np.zeros(len(names))
+            w[i], w[j] = 1.0, -e
+            extent = 2 * math.sqrt(max(delta_s * float(w @ H_inv @ w), 0.0))
+            if extent > SPREAD_LIMIT:  # as tight as an identifiable tuner
+                continue
+            width = lambda k: (math.log(probe["upper"][k] / probe["lower"][k]) if probe["log"][k] else probe["upper"][k] - probe["lower"][k])  # noqa: E731
+            exponent = _simple(e * width(i) / width(j))
+            relative = math.exp(extent * width(i)) - 1 if probe["log"][i] else extent
+            combos.append(Combination((a, b), exponent, 1.0, float(relative)))
+    if combos:
+        report.combinations = combos
+    report.local = True
+    return report
+
+
+def _from_unit(probe, i, u) -> float:
+    lo, hi = probe["lower"][i], probe["upper"][i]
+    if probe["log"][i]:
+        return float(math.exp(math.log(lo) + u * (math.log(hi) - math.log(lo))))
+    return float(lo + u * (hi - lo))
+
+
+def from_run(frame: pd.DataFrame, pareto: pd.DataFrame, parameter_names, objective_columns, bounds, tolerance=TOLERANCE) -> Report | None:
+    """Report for a run from its log (``frame``) and front; None without a knee."""
+    from .evaluation import STATUS_OK
+    from .results import OBJECTIVE, PARAM
+
+    if pareto.empty or "knee" not in pareto:
+        return None
+    ok = frame[frame["status"] == STATUS_OK].reset_index(drop=True)
+    knee_id = int(pareto.loc[pareto["knee"], "eval_id"].iloc[0])
+    rows = np.flatnonzero(ok["eval_id"].to_numpy() == knee_id)
+    if not len(rows):
+        return None
+    params = ok[[PARAM + n for n in parameter_names]].rename(columns=lambda c: c[len(PARAM):])
+    objectives = ok[[OBJECTIVE + c for c in objective_columns]].to_numpy(dtype=float)
+    return analyse(params, objectives, int(rows[0]), bounds, tolerance)
+
+
+def write(report: Report, run_dir: Path) -> None:
+    """The table (``identifiability.csv``) and a plot of the near-optimal set."""
+    if not report.tuners:
+        return
+    table = pd.DataFrame([t.__dict__ for t in report.tuners])
+    table.insert(1, "near_optimal", report.near)
+    table.to_csv(run_dir / TABLE, index=False)
+    _plot(report, run_dir / "plots" / PLOT)
+
+
+def _plot(report: Report, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = [t.name for t in report.tuners]
+    n = len(names)
+    fig, axes = plt.subplots(n, n, figsize=(2.2 * n + 1, 2.2 * n + 1), squeeze=False)
+    values = report.near_values
+    for i, a in enumerate(names):
+        for j, b in enumerate(names):
+            ax = axes[i][j]
+            if i == j:
+                ax.hist(values[a], bins=20, color="tab:red" if a in report.flagged else "tab:blue")
+            else:
+                ax.scatter(values[b], values[a], s=4, alpha=0.6)
+            if j == 0:
+                ax.set_ylabel(a)
+            if i == n - 1:
+                ax.set_xlabel(b)
+    fig.suptitle(f"near-optimal set ({report.near} evaluations within {100 * report.tolerance:g} % of the front); red: not identifiable")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
