@@ -136,9 +136,12 @@ PHYSICAL = ("start_up_lag", "start_up_inertia", "post_run", "sensor_lag", "heat_
     ("water_to_water_hp", {"PEl_W": (0.0, 1.15)}),    # the power meter reads 15 % high
 ])
 def test_a_pure_sensor_error_is_claimed_as_the_sensor_never_as_physics(tmp_path, model, sensor):
-    case = BlindCase(model, "sensor_offset_gain", sensor=sensor, seed=4, population=12, generations=4,
+    # the bench's default budget (16 x 6): at 12 x 4 the water-to-water recalibration did not
+    # undo what the base calibration's tuners bent to imitate the meter's gain (15 % beyond
+    # re-tuning; 53 % at 16 x 6)
+    case = BlindCase(model, "sensor_offset_gain", sensor=sensor, seed=4,
                      seasons=("autumn", "autumn") if model == "air_source_hp" else None)
-    result = run_case(case, tmp_path / model, candidates=2)
+    result = run_case(case, tmp_path / model, candidates=1)
     assert not set(result["claimed"]) & set(PHYSICAL), result
     assert result["claimed"][:1] == ["sensor_offset_gain"], result
 

@@ -314,13 +314,23 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
             raise ConfigError(f"diagnose.roles.{role}: {name!r} is neither a model input ({', '.join(inputs)}) nor a target ({', '.join(targets)})")
         sources[role] = "declared in diagnose.roles"
     joined_inputs = ctx.joined("inputs")
+    try:
+        variables = ctx.prepared.simulator.variables()
+    except Exception:  # a simulator that cannot list its variables has no descriptions to offer
+        variables = {}
 
     def plausible(role: str, name: str) -> bool:
-        """An outdoor temperature looks like one (a humidity named '...Oda' does not)."""
+        """An outdoor temperature looks like one (a humidity named '...Oda' does not): a
+        temperature unit where the model states one, values in K or spread like degC."""
         if role != "outdoor_temperature" or name not in joined_inputs:
             return True
-        mean = float(np.nanmean(joined_inputs[name]))
-        return 200.0 < mean < 340.0 or -40.0 < mean < 50.0
+        unit = getattr(variables.get(name), "unit", "") or ""
+        if unit and unit not in ("K", "degC", "°C"):
+            return False
+        values = np.asarray(joined_inputs[name], dtype=float)
+        mean = float(np.nanmean(values))
+        spread = float(np.nanmax(values) - np.nanmin(values)) if np.isfinite(values).any() else 0.0
+        return 200.0 < mean < 340.0 or (-40.0 < mean < 50.0 and spread > 3.0)
 
     for role, pattern in _ROLE_PATTERNS.items():
         if role in roles:
@@ -331,10 +341,6 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
                 roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
                 sources[role] = f"guessed from the name '{name}'"
                 break
-    try:
-        variables = ctx.prepared.simulator.variables()
-    except Exception:  # a simulator that cannot list its variables has no descriptions to offer
-        variables = {}
     target_vars = {t.name: t.simulated_variables[0] for t in ctx.prepared.wf.model.targets}
     for role, words in _ROLE_WORDS.items():
         if role in roles:

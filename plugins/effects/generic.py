@@ -78,8 +78,8 @@ class SensorTimeConstant(_Around):
 
 class SensorOffsetGain(_Around):
     name = "sensor_offset_gain"
-    description = "the sensor or meter of a target reads with an offset and a gain error"
-    evidence = "a constant bias, or an error proportional to the value, that re-tuning the model cannot reproduce"
+    description = "a thermometer reads with an offset, a meter (power, flow, heat) with a gain error"
+    evidence = "a constant bias of a temperature, or an error of a power in proportion to it, that re-tuning the model cannot reproduce"
     keeps_offset = True
     """The screening keeps the constant in the residual: an offset is this effect's evidence."""
 
@@ -87,17 +87,20 @@ class SensorOffsetGain(_Around):
         return None if data.simulated else "needs a target"
 
     def entries(self, data):
+        # a thermometer is off by an offset, a meter by a gain (one tuner per target keeps the
+        # recalibration small; an offset on a power or a gain on a temperature is rare)
         out = []
         for t in data.simulated:
             values = np.asarray(data.simulated[t], dtype=float)
-            temperature = _looks_temperature(values, data.units.get(t, ""))
-            reference = 273.15 if temperature and float(np.nanmean(values)) > 200.0 else 0.0
-            spread = float(np.nanstd(values)) or 1.0
-            size = 2.0 if temperature else max(spread, 0.2 * float(np.nanmean(np.abs(values))))
-            offset, gain = f"offset_{_safe(t)}", f"gain_{_safe(t)}"
-            out.append(({"apply": "output_offset_gain", "variable": data.variable_of(t), "offset": offset, "gain": gain,
-                         "reference": reference},
-                        (P(offset, 0.0, -size, size, "", neutral=0.0), P(gain, 1.0, 0.8, 1.2, "", neutral=1.0))))
+            variable = data.variable_of(t)
+            if _looks_temperature(values, data.units.get(t, "")):
+                name = f"offset_{_safe(t)}"
+                out.append(({"apply": "output_offset_gain", "variable": variable, "offset": name},
+                            (P(name, 0.0, -2.0, 2.0, "K", neutral=0.0),)))
+            else:
+                name = f"gain_{_safe(t)}"
+                out.append(({"apply": "output_offset_gain", "variable": variable, "gain": name},
+                            (P(name, 1.0, 0.7, 1.3, "", neutral=1.0, screen=(0.8, 0.9, 1.1, 1.2)),)))
         return out
 
     def signature(self, data):
