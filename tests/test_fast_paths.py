@@ -120,3 +120,40 @@ def test_front_is_the_one_the_python_loop_found(k):
     F = rng.random((3000, k))  # continuous values: a real front
     assert non_dominated(F).sum() >= 1
     np.testing.assert_array_equal(non_dominated(F), _non_dominated_loop(F))
+
+
+# ---------------------------------------------------------------------------------------------
+# DTW: several columns summed inside the anti-diagonal sweep
+
+
+def _dtw_by_rows(a: np.ndarray, b: np.ndarray, w: int) -> float:
+    """Banded DTW over (d, n) series, row by row in Python: columns summed in order, then + min."""
+    n = a.shape[1]
+    D = np.full((n, n), np.inf)
+    for i in range(n):
+        for j in range(max(0, i - w), min(n, i + w + 1)):
+            cost = 0.0
+            for c in range(a.shape[0]):
+                x = a[c, i] - b[c, j]
+                cost = x * x if c == 0 else cost + x * x
+            if i == 0 and j == 0:
+                D[i, j] = cost
+            else:
+                best = min(D[i - 1, j - 1] if i and j else np.inf, D[i - 1, j] if i else np.inf,
+                           D[i, j - 1] if j else np.inf)
+                D[i, j] = cost + best
+    return float(D[-1, -1])
+
+
+@pytest.mark.parametrize("d", [1, 2, 3])
+def test_multi_column_dtw_is_bitwise_the_row_by_row_sum(d):
+    from simgap.plugins.metrics.dtw_kernels import banded_dtw, banded_dtw_1d
+
+    rng = np.random.default_rng(d)
+    for n, w in [(40, 5), (41, 6), (30, 29), (25, 0)]:
+        a = np.ascontiguousarray(rng.normal(size=(d, n)).cumsum(axis=1))
+        b = np.ascontiguousarray(a + rng.normal(size=(d, n)))
+        expected = _dtw_by_rows(a, b, w)
+        assert banded_dtw(a, b, w, 1) == expected
+        if d == 1:
+            assert banded_dtw_1d(a[0].copy(), b[0].copy(), w) == expected
