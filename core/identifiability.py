@@ -30,8 +30,8 @@ TOLERANCE = 0.10
 """Near-optimal: within this share of a front point's value in every objective."""
 SPREAD_LIMIT = 0.25
 """A tuner whose near-optimal values cover more than this share of its range is flagged."""
-MIN_NEAR = 8
-"""Fewer near-optimal evaluations than this say nothing either way."""
+MIN_NEAR = 20
+"""Fewer near-optimal evaluations than this say nothing either way (the local probe still does)."""
 COMBINATION_R2 = 0.95
 """A pairwise log-linear relation explaining at least this share of the variance is a combination."""
 TABLE = "identifiability.csv"
@@ -180,18 +180,21 @@ def _combinations(scaled: pd.DataFrame, flagged: list[str]) -> list[Combination]
             if r2 < COMBINATION_R2:
                 continue
             exponent = _simple(slope)
+            if exponent is None:
+                continue
             combined = y - exponent * x
             q5, q95 = np.quantile(combined, [0.05, 0.95])
             found.append(Combination((a, b), exponent, float(r2), float(math.exp(q95 - q5) - 1)))
     return found
 
 
-def _simple(slope: float) -> float:
-    """The exponent as a simple fraction when it is one (1, -1, 0.5, 2 ...)."""
+def _simple(slope: float) -> float | None:
+    """The exponent as a simple fraction (1, -1, 0.5, 2 ...), or None: a combination such as
+    a/b^241 is an artefact of a few scattered points, not physics worth naming."""
     for candidate in (1.0, -1.0, 0.5, -0.5, 2.0, -2.0, 1 / 3, -1 / 3, 3.0, -3.0):
         if abs(slope - candidate) <= 0.1 * abs(candidate):
             return candidate
-    return round(float(slope), 2)
+    return None
 
 
 PROBE_STEP = 0.01
@@ -295,6 +298,8 @@ def merge_local(report: Report, probe: dict | None) -> Report:
                 continue
             width = lambda k: (math.log(probe["upper"][k] / probe["lower"][k]) if probe["log"][k] else probe["upper"][k] - probe["lower"][k])  # noqa: E731
             exponent = _simple(e * width(i) / width(j))
+            if exponent is None or not (probe["log"][i] and probe["log"][j]):
+                continue
             relative = math.exp(extent * width(i)) - 1 if probe["log"][i] else extent
             combos.append(Combination((a, b), exponent, 1.0, float(relative)))
     if combos:
