@@ -223,5 +223,10 @@ from .diagnosis.command import diagnose_command  # noqa: E402  (body in simgap.d
 main.add_command(diagnose_command)
 
 
+from .sensitivity_cli import sensitivity_command  # noqa: E402  (body in simgap.sensitivity)
+
+main.add_command(sensitivity_command)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()

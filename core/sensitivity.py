@@ -1,0 +1,253 @@
+"""Sensitivity analysis of the tuners on simgap's own evaluator (SALib samples and indices).
+
+Which tuners move which errors? SALib draws the points (Morris trajectories for screening,
+Saltelli/Sobol' samples for variance-based indices with confidence intervals) in the unit cube of
+the tuners (log for log-scale tuners); simgap evaluates them exactly as a calibration does (dask
+batches, every target under every metric, failed simulations logged) into an evaluation log in
+the output folder, so an interrupted analysis resumes: logged points are not evaluated again.
+SALib then computes the indices per error column.
+
+A tuner whose elementary effects are all zero for every error changes nothing the workflow
+measures: it is reported as *inert* (a parameter the model reads but does not use, as a
+compiler may fold it). A tuner below ``INFLUENCE_SHARE`` of the largest μ* (Morris) or with a
+total index below ``SOBOL_TOTAL_MIN`` (Sobol') in every error is *non-influential*;
+``--write-workflow`` fixes those at their start values.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .errors import SimgapError
+from .evaluation import STATUS_OK
+from .executor import DaskExecutor
+from .results import ERROR, EVALUATIONS, PARAM, RunStore, read_log
+from .setup import Prepared
+
+INFLUENCE_SHARE = 0.05
+SOBOL_TOTAL_MIN = 0.01
+INERT_SHARE = 1e-9
+TABLE = "sensitivity.csv"
+
+
+@dataclass
+class Result:
+    method: str
+    table: pd.DataFrame
+    """One row per (error column, tuner): the indices, and the rank within the error column."""
+    inert: list[str]
+    non_influential: list[str]
+    evaluations: int
+    failed: int
+    wall_s: float
+    out_dir: Path | None = None
+
+    def ranking(self, column: str) -> list[str]:
+        rows = self.table[self.table["error"] == column].sort_values("rank")
+        return rows["tuner"].tolist()
+
+
+def _problem(prepared: Prepared) -> dict:
+    names = list(prepared.space.names)
+    return {"num_vars": len(names), "names": names, "bounds": [[0.0, 1.0]] * len(names)}
+
+
+def sample(prepared: Prepared, method: str, n: int, seed: int) -> np.ndarray:
+    """Unit-cube points: ``n`` Morris trajectories, or ``n`` Saltelli base samples (Sobol')."""
+    problem = _problem(prepared)
+    if method == "morris":
+        from SALib.sample import morris
+
+        return morris.sample(problem, n, num_levels=4, seed=seed)
+    if method == "sobol":
+        from SALib.sample import sobol
+
+        return sobol.sample(problem, n, calc_second_order=False, seed=seed)
+    raise SimgapError(f"unknown sensitivity method {method!r}; expected morris or sobol")
+
+
+def analyse(prepared: Prepared, method: str, X: np.ndarray, Y: dict[str, np.ndarray], seed: int) -> pd.DataFrame:
+    problem = _problem(prepared)
+    parts = []
+    for column, y in Y.items():
+        if method == "morris":
+            from SALib.analyze import morris
+
+            res = morris.analyze(problem, X, y, num_levels=4, seed=seed)
+            frame = pd.DataFrame({"tuner": problem["names"], "mu_star": res["mu_star"], "mu_star_conf": res["mu_star_conf"], "sigma": res["sigma"]})
+            key = "mu_star"
+        else:
+            from SALib.analyze import sobol
+
+            res = sobol.analyze(problem, y, calc_second_order=False, seed=seed)
+            frame = pd.DataFrame({"tuner": problem["names"], "S1": res["S1"], "S1_conf": res["S1_conf"], "ST": res["ST"], "ST_conf": res["ST_conf"]})
+            key = "ST"
+        frame.insert(0, "error", column)
+        frame["rank"] = frame[key].rank(ascending=False, method="first").astype(int)
+        parts.append(frame)
+    return pd.concat(parts, ignore_index=True)
+
+
+def run(
+    prepared: Prepared,
+    *,
+    method: str = "morris",
+    n: int = 10,
+    seed: int = 1,
+    out_dir: Path | None = None,
+    executor: DaskExecutor | None = None,
+    workers: int | None = None,
+) -> Result:
+    """Sample, evaluate on dask (resuming a log already in ``out_dir``), analyse."""
+    t0 = time.perf_counter()
+    X = sample(prepared, method, n, seed)
+    values = prepared.space.from_unit(X)
+    setup = prepared.training
+    names = prepared.space.names
+    done: dict[int, dict] = {}
+    store = None
+    if out_dir is not None:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        store = RunStore(out_dir, f"sensitivity-{method}", names, setup.columns, setup.objective_columns)
+        log = read_log(out_dir)
+        if log is not None:
+            store.preload(log, out_dir / EVALUATIONS)
+            logged = log.to_pandas()
+            for row in logged.itertuples(index=False):
+                eid = int(row.eval_id)
+                if eid < len(values) and np.allclose([getattr(row, _attr(PARAM + p, logged)) for p in names], values[eid], rtol=1e-9):
+                    done[eid] = {"status": row.status, "errors": {c: getattr(row, _attr(ERROR + c, logged)) for c in setup.columns}}
+    params = prepared.space.as_dicts(values)
+    jobs = [(i, p) for i, p in enumerate(params) if i not in done]
+    own = executor is None
+    ex = executor or DaskExecutor(workers=workers or prepared.wf.model.execution.workers, scheduler=prepared.wf.model.execution.scheduler)
+    by_id = dict(jobs)
+    try:
+        if own:
+            ex.__enter__()
+        if jobs:
+            handle = ex.share(setup)
+
+            def on_done(rows):
+                if store is not None:
+                    store.append(rows, 0, by_id)
+
+            for row in ex.run(setup, handle, jobs, on_done=on_done):
+                done[row["eval_id"]] = row
+            if store is not None:
+                store.flush()
+    finally:
+        if own:
+            ex.__exit__(None, None, None)
+    failed = sum(done[i]["status"] != STATUS_OK for i in range(len(values)))
+    Y = {}
+    for column in setup.columns:
+        y = np.array([(done[i]["errors"] or {}).get(column, math.nan) if done[i]["status"] == STATUS_OK else math.nan for i in range(len(values))], dtype=float)
+        if np.isfinite(y).sum() == 0:
+            continue
+        # a failed point gets the worst error seen: it keeps the design intact and counts as a large effect
+        Y[column] = np.where(np.isfinite(y), y, np.nanmax(y))
+    if not Y:
+        raise SimgapError(f"sensitivity: all {len(values)} evaluations failed; see {out_dir / EVALUATIONS if out_dir else 'the simulator'}")
+    table = analyse(prepared, method, X, Y, seed)
+    inert, weak = _classify(table, method, names)
+    result = Result(method, table, inert, weak, len(values), failed, time.perf_counter() - t0, out_dir)
+    if out_dir is not None:
+        table.to_csv(out_dir / TABLE, index=False)
+        _plot(result, out_dir / "plots")
+    return result
+
+
+def _attr(column: str, frame: pd.DataFrame) -> str:
+    """itertuples renames columns that are not identifiers to _<position>."""
+    return f"_{list(frame.columns).index(column)}"
+
+
+def _classify(table: pd.DataFrame, method: str, names) -> tuple[list[str], list[str]]:
+    inert, weak = [], []
+    key = "mu_star" if method == "morris" else "ST"
+    for name in names:
+        shares, magnitudes = [], []
+        for column, rows in table.groupby("error"):
+            top = float(rows[key].abs().max())
+            value = float(rows.loc[rows["tuner"] == name, key].iloc[0])
+            shares.append(abs(value) / top if top > 0 else 0.0)
+            magnitudes.append(abs(value))
+        if method == "morris" and max(shares) <= INERT_SHARE:
+            inert.append(name)
+        if (method == "morris" and max(shares) < INFLUENCE_SHARE) or (method == "sobol" and max(magnitudes) < SOBOL_TOTAL_MIN):
+            weak.append(name)
+    return inert, weak
+
+
+def _plot(result: Result, folder: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    folder.mkdir(parents=True, exist_ok=True)
+    key, conf = ("mu_star", "mu_star_conf") if result.method == "morris" else ("ST", "ST_conf")
+    for column, rows in result.table.groupby("error"):
+        rows = rows.sort_values("rank", ascending=False)
+        fig, ax = plt.subplots(figsize=(6, 0.4 * len(rows) + 1.5))
+        ax.barh(rows["tuner"], rows[key], xerr=rows[conf], color="tab:blue")
+        if result.method == "sobol":
+            ax.barh(rows["tuner"], rows["S1"], height=0.4, color="tab:orange", label="S1")
+            ax.legend()
+        ax.set_xlabel(f"{key} ({result.method})")
+        ax.set_title(column)
+        fig.tight_layout()
+        fig.savefig(folder / f"sensitivity_{column}.png", dpi=80)
+        plt.close(fig)
+
+
+def default_out_dir(prepared: Prepared, method: str) -> Path:
+    parent = prepared.wf.resolve(prepared.wf.model.output)
+    name = prepared.wf.model.name or prepared.wf.path.stem
+    return Path(parent) / f"{datetime.now().strftime('%Y%m%d-%H%M%S')}-{name}-sensitivity-{method}"
+
+
+def write_workflow(prepared: Prepared, result: Result, target: Path) -> list[str]:
+    """A copy of the workflow without the non-influential tuners, each fixed at its start value
+    (the middle of its range when it has none) through the simulator's ``start_values`` option,
+    with a comment saying why. Returns the names fixed."""
+    from ruamel.yaml import YAML
+
+    cls = prepared.registry.get("simulator", prepared.wf.model.simulator.plugin)
+    if "start_values" not in getattr(cls.Options, "model_fields", {}):
+        raise SimgapError(
+            f"sensitivity: simulator {prepared.wf.model.simulator.plugin!r} has no 'start_values' option to fix tuners at; "
+            f"fix {', '.join(result.non_influential)} by hand"
+        )
+    yaml = YAML()
+    yaml.preserve_quotes = True
+    doc = yaml.load(prepared.wf.path.read_text(encoding="utf-8"))
+    names = list(prepared.space.names)
+    middle = prepared.space.from_unit(np.full((1, len(names)), 0.5))[0]
+    params = {p.name: p for p in prepared.wf.model.parameters}
+    fixed = [n for n in result.non_influential if n in params]
+    if len(fixed) == len(names):
+        raise SimgapError("sensitivity: every tuner is non-influential; no workflow written")
+    options = doc["simulator"].setdefault("options", {})
+    start_values = options.setdefault("start_values", {})
+    for name in fixed:
+        p = params[name]
+        start = p.start if p.start is not None else float(middle[names.index(name)])
+        start_values[name] = start
+        why = "inert: moves no error at all" if name in result.inert else (
+            f"non-influential ({result.method}: below {100 * INFLUENCE_SHARE:g} % of the top tuner in every error)"
+            if result.method == "morris" else f"non-influential (Sobol' ST < {SOBOL_TOTAL_MIN:g} in every error)"
+        )
+        start_values.yaml_add_eol_comment(f"was a tuner [{p.min:g}, {p.max:g}]; fixed by simgap sensitivity: {why}", name)
+    doc["parameters"] = [entry for entry in doc["parameters"] if entry["name"] not in fixed]
+    with open(target, "w", encoding="utf-8") as fh:
+        yaml.dump(doc, fh)
+    return fixed
