@@ -220,6 +220,7 @@ def write_workflow(prepared: Prepared, result: Result, target: Path) -> list[str
     (the middle of its range when it has none) through the simulator's ``start_values`` option,
     with a comment saying why. Returns the names fixed."""
     from ruamel.yaml import YAML
+    from ruamel.yaml.comments import CommentedMap
 
     cls = prepared.registry.get("simulator", prepared.wf.model.simulator.plugin)
     if "start_values" not in getattr(cls.Options, "model_fields", {}):
@@ -236,8 +237,14 @@ def write_workflow(prepared: Prepared, result: Result, target: Path) -> list[str
     fixed = [n for n in result.non_influential if n in params]
     if len(fixed) == len(names):
         raise SimgapError("sensitivity: every tuner is non-influential; no workflow written")
-    options = doc["simulator"].setdefault("options", {})
-    start_values = options.setdefault("start_values", {})
+    if doc["simulator"].get("options") is None:
+        doc["simulator"]["options"] = CommentedMap()
+    options = doc["simulator"]["options"]
+    if not isinstance(options, CommentedMap):  # a flow mapping written inline
+        options = doc["simulator"]["options"] = CommentedMap(options)
+    if not isinstance(options.get("start_values"), CommentedMap):
+        options["start_values"] = CommentedMap(options.get("start_values") or {})
+    start_values = options["start_values"]
     for name in fixed:
         p = params[name]
         start = p.start if p.start is not None else float(middle[names.index(name)])
