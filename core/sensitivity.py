@@ -245,6 +245,8 @@ def write_workflow(prepared: Prepared, result: Result, target: Path) -> list[str
     if not isinstance(options.get("start_values"), CommentedMap):
         options["start_values"] = CommentedMap(options.get("start_values") or {})
     start_values = options["start_values"]
+    options.fa.set_block_style()  # room for a comment per fixed tuner
+    start_values.fa.set_block_style()
     for name in fixed:
         p = params[name]
         start = p.start if p.start is not None else float(middle[names.index(name)])

@@ -73,3 +73,14 @@ def test_inert_tuner_is_named_resumed_and_fixed(folded_workflow, tmp_path):
     assert doc["simulator"]["options"]["start_values"] == {"h_folded": 10}
     assert "inert" in written.read_text()
     prepare(load_workflow(written))  # the copy is a valid workflow
+
+
+def test_sobol_indices_with_confidence_intervals(folded_workflow, tmp_path):
+    prepared = prepare(load_workflow(folded_workflow))
+    result = sensitivity.run(prepared, method="sobol", n=64, seed=1, out_dir=tmp_path / "sobol", workers=2)
+    rows = result.table[result.table["error"] == "T_zone.rmse"].set_index("tuner")
+    assert result.evaluations == 64 * (4 + 2)
+    assert rows.loc["h_folded", "ST"] < 1e-6 and rows.loc["h_folded", "ST_conf"] < 1e-6
+    assert (rows[["ST_conf", "S1_conf"]].loc[["R1", "R2", "C"]] > 0).all().all()
+    assert rows.loc[["R1", "R2", "C"], "ST"].min() > sensitivity.SOBOL_TOTAL_MIN
+    assert result.non_influential == ["h_folded"]
