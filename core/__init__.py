@@ -7,6 +7,8 @@ and the exceptions. Built-in plugins import nothing else from simgap.
 
 from __future__ import annotations
 
+import importlib
+
 from .errors import (
     ConfigError,
     DataError,
@@ -16,25 +18,34 @@ from .errors import (
     SimulationFailed,
     SimulationTimeout,
 )
-from .interfaces import (
-    DiagnosisData,
-    Effect,
-    EffectAddition,
-    EffectParameter,
-    Metric,
-    NoOptions,
-    Optimiser,
-    PluginContext,
-    PluginOptions,
-    Problem,
-    SimulationCase,
-    Simulator,
-    Variable,
-)
-from .fmu_build import build_fmu
-from .fmu_log import FMULog
-from .plugin_host import hookimpl
-from .weighting import WeightedOptions, scalarise, weight_vector
+
+# Everything else is imported on first use (PEP 562): `import simgap` alone, as a worker or the
+# CLI's start-up does before it knows what it needs, then costs no pandas, pydantic or pluggy.
+_LAZY = {
+    **dict.fromkeys(
+        ["DiagnosisData", "Effect", "EffectAddition", "EffectParameter", "Metric", "NoOptions", "Optimiser",
+         "PluginContext", "PluginOptions", "Problem", "SimulationCase", "Simulator", "Variable"],
+        "interfaces",
+    ),
+    "build_fmu": "fmu_build",
+    "FMULog": "fmu_log",
+    "hookimpl": "plugin_host",
+    **dict.fromkeys(["WeightedOptions", "scalarise", "weight_vector"], "weighting"),
+}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'simgap' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __version__ = "0.1.0"
 

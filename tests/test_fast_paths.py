@@ -157,3 +157,24 @@ def test_multi_column_dtw_is_bitwise_the_row_by_row_sum(d):
         assert banded_dtw(a, b, w, 1) == expected
         if d == 1:
             assert banded_dtw_1d(a[0].copy(), b[0].copy(), w) == expected
+
+
+# ---------------------------------------------------------------------------------------------
+# import simgap: light, every public name still there
+
+
+def test_import_simgap_is_light_and_every_public_name_resolves():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, simgap\n"
+        "heavy = [m for m in ('pandas', 'numba', 'matplotlib', 'distributed', 'pydantic') if m in sys.modules]\n"
+        "assert not heavy, heavy\n"
+        "missing = [n for n in simgap.__all__ if getattr(simgap, n, None) is None]\n"
+        "assert not missing, missing\n"
+        "from simgap import *\n"
+        "assert Simulator is simgap.interfaces.Simulator and hookimpl is simgap.plugin_host.hookimpl\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr

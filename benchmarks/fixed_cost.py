@@ -1,0 +1,152 @@
+"""CPU of a quickstart-sized run beyond its simulations: the fixed cost per run and per evaluation.
+
+    python benchmarks/fixed_cost.py [--small 40] [--large 400] [--repeats 3] [--workers 2]
+
+Runs ``simgap run workflows/quickstart.yaml`` as a fresh process with two budgets (one
+generation of 40 and ten generations), interleaved (small, large, small, large …), and takes the
+CPU time of the process and all its descendants (``resource.getrusage(RUSAGE_CHILDREN)``: user +
+system of every reaped descendant, so dask's scheduler, nanny and workers are included once the
+run has shut them down). With medians C(small) and C(large):
+
+    per evaluation  = (C(large) − C(small)) / (large − small)
+    fixed per run   = C(small) − small × per evaluation
+    framework per evaluation = per evaluation − (simulation + metric CPU of one evaluation)
+
+The simulation + metric CPU of one evaluation is measured here in this process on the
+quickstart FMU (process time of ``simulate`` on the training segment with its warm-up, both step
+loops: a short run stays in the Python loop, see plugins/fmu/steploop.py) plus the two metrics.
+Import times are measured too (``python -c "import simgap"`` and ``simgap --help`` in fresh
+processes). The machine is shared: the load is printed before and after; trust ratios.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+WORKFLOW = REPO / "workflows" / "quickstart.yaml"
+
+
+def children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run_process(command: list[str], cwd: Path | None = None) -> tuple[float, float]:
+    """(wall seconds, CPU seconds of the process and its descendants) of one command."""
+    before = children_cpu()
+    started = time.perf_counter()
+    done = subprocess.run(command, cwd=cwd, capture_output=True, text=True)
+    wall = time.perf_counter() - started
+    if done.returncode != 0:
+        sys.exit(f"fixed_cost: {' '.join(command)} failed ({done.returncode}): {done.stderr.strip()[-400:]}")
+    return wall, children_cpu() - before
+
+
+def workflow_with_budget(evaluations: int, folder: Path) -> Path:
+    """The quickstart workflow with another budget, its relative paths made absolute."""
+    text = WORKFLOW.read_text()
+    text = re.sub(r"budget: \{evaluations: \d+\}", f"budget: {{evaluations: {evaluations}}}", text)
+    text = text.replace("../", f"{REPO}/")
+    path = folder / f"quickstart_{evaluations}.yaml"
+    path.write_text(text)
+    return path
+
+
+def evaluation_cpu() -> dict[str, float]:
+    """Process CPU of one quickstart evaluation's simulation (both loops) and metrics."""
+    import numpy as np
+
+    import simgap
+    from simgap.plugins.fmu import FMUSimulator, build_fmu, steploop
+    from simgap.plugins.metrics import METRICS
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from fmu_simulate import TRUTH, quickstart_case
+
+    with tempfile.TemporaryDirectory() as cache:
+        fmu = build_fmu(REPO / "examples" / "models" / "quickstart_zone", Path(cache))
+        context = simgap.PluginContext(base_dir=REPO, cache_dir=Path(cache))
+        case = quickstart_case(600.0)  # 3 days: the training segment (2 days) plus 12 h warm-up is 2.5
+        sim = FMUSimulator(FMUSimulator.Options(fmu=str(fmu), step_size=600.0), context)
+        out = {}
+        for label, compile_after in (("python loop", float("inf")), ("compiled loop", 0.0)):
+            steploop._state = steploop._ProcessState()
+            steploop.COMPILE_AFTER_SECONDS = compile_after
+            sim.simulate(TRUTH, case)
+            started = time.process_time()
+            for _ in range(200):
+                result = sim.simulate(TRUTH, case)
+            out[label] = (time.process_time() - started) / 200 * 2.5 / 3.0
+        measured = result["T_zone"] + np.random.default_rng(0).normal(0, 0.2, len(result["T_zone"]))
+        by_name = {metric.name: metric for metric in METRICS}
+        metrics = [by_name["rmse"](), by_name["cvrmse"]()]
+        started = time.process_time()
+        for _ in range(200):
+            for metric in metrics:
+                metric(measured, result["T_zone"], None)
+        out["metrics"] = (time.process_time() - started) / 200
+    return out
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--small", type=int, default=40)
+    parser.add_argument("--large", type=int, default=400)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args(argv)
+    print(f"load before {os.getloadavg()}")
+
+    imports = {"python -c 'import simgap'": [sys.executable, "-c", "import simgap"],
+               "simgap --help": [sys.executable, "-m", "simgap.cli", "--help"],
+               "python -c 'pass'": [sys.executable, "-c", "pass"]}
+    print("\nstart-up (fresh process, median of 5): wall / CPU")
+    for label, command in imports.items():
+        runs = [run_process(command) for _ in range(5)]
+        print(f"  {label:<28} {statistics.median(r[0] for r in runs):6.3f} s / "
+              f"{statistics.median(r[1] for r in runs):6.3f} s")
+
+    per_eval = evaluation_cpu()
+    print("\none evaluation in-process (CPU): simulation "
+          f"{per_eval['python loop'] * 1e3:.3f} ms (Python loop), {per_eval['compiled loop'] * 1e3:.3f} ms "
+          f"(compiled loop); metrics {per_eval['metrics'] * 1e3:.3f} ms")
+
+    cpu = {args.small: [], args.large: []}
+    wall = {args.small: [], args.large: []}
+    with tempfile.TemporaryDirectory() as folder:
+        folder = Path(folder)
+        workflows = {n: workflow_with_budget(n, folder) for n in cpu}
+        for repeat in range(args.repeats):
+            for n in (args.small, args.large):
+                w, c = run_process([sys.executable, "-m", "simgap.cli", "run", str(workflows[n]),
+                                    "--workers", str(args.workers), "--out", str(folder / f"out{n}_{repeat}")])
+                wall[n].append(w)
+                cpu[n].append(c)
+                print(f"  run {repeat + 1}, {n:>4} evaluations: {w:6.2f} s wall, {c:6.2f} s CPU (all processes), "
+                      f"load {os.getloadavg()[0]:.2f}")
+    c_small, c_large = statistics.median(cpu[args.small]), statistics.median(cpu[args.large])
+    slope = (c_large - c_small) / (args.large - args.small)
+    fixed = c_small - args.small * slope
+    work = per_eval["python loop"] + per_eval["metrics"]
+    print(f"\nworkers {args.workers}; medians of {args.repeats} interleaved runs")
+    print(f"  wall per run: {statistics.median(wall[args.small]):.2f} s ({args.small} evaluations), "
+          f"{statistics.median(wall[args.large]):.2f} s ({args.large})")
+    print(f"  CPU per run:  {c_small:.2f} s ({args.small}), {c_large:.2f} s ({args.large})")
+    print(f"  fixed CPU per run (intercept): {fixed:.2f} s   [target <= 1.5 s]")
+    print(f"  CPU per evaluation (slope): {slope * 1e3:.2f} ms, of which simulation + metrics "
+          f"{work * 1e3:.2f} ms (Python loop); framework {max(slope - work, 0) * 1e3:.2f} ms   [target <= 0.3 ms]")
+    print(f"load after {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()
