@@ -248,6 +248,7 @@ def test_the_host_holds_no_heat_pump_model_knowledge():
     assert not found, found
 
 
+@pytest.mark.slow  # two rounds of screening and recalibration (~40 s)
 def test_two_withheld_effects_are_found_one_round_after_the_other(tmp_path):
     """A slow zone sensor and 500 W of internal gains fewer than the model assumes (a load
     the tuners do not cover): the first round confirms one, the model recalibrated with it is
