@@ -93,7 +93,8 @@ def test_effects_are_registered_and_public():
     from simgap.plugin_host import get_registry
 
     names = get_registry().names("effect")
-    for name in ("start_up_lag", "sensor_lag", "heat_loss", "cycling", "defrost", "post_run", "backup_heater", "start_up_inertia"):
+    for name in ("start_up_lag", "sensor_lag", "heat_loss", "cycling", "defrost", "post_run", "backup_heater", "start_up_inertia",
+                 "sensor_time_constant", "sensor_offset_gain", "clock_shift", "input_gain_error", "extra_heat_load", "on_off_delay"):
         assert name in names
     assert issubclass(get_registry().get("effect", "sensor_lag"), simgap.Effect)
 
