@@ -308,9 +308,52 @@ class Scoring(Section):
         return self
 
 
+class Condition(Section):
+    """A row of the measured data is in a class when its column is above and/or below values."""
+
+    column: str
+    above: float | None = None
+    below: float | None = None
+
+    @model_validator(mode="after")
+    def _some_limit(self):
+        if self.above is None and self.below is None:
+            raise ValueError("a condition needs 'above' and/or 'below'")
+        return self
+
+
+class ClassRange(Section):
+    start: str
+    end: str
+    """Timestamps; the range includes both."""
+
+
+class CalibrationClass(Section):
+    """An operating state: rows chosen by time ranges and/or conditions on measured data, its
+    own tuners (``parameters``, model names) on top of the workflow's global ones, and the
+    targets scored in it. Each class's errors are its own objectives ('<class>.<target>.<metric>')."""
+
+    name: str = Field(pattern=NAME_PATTERN)
+    ranges: list[ClassRange] = Field(default_factory=list)
+    when: list[Condition] = Field(default_factory=list)
+    parameters: list[Parameter] = Field(default_factory=list)
+    targets: list[str] | None = None
+    """Names of the workflow's targets scored in this class (default: all)."""
+
+    @model_validator(mode="after")
+    def _selects(self):
+        if not self.ranges and not self.when:
+            raise ValueError("a class needs 'ranges' and/or 'when' to choose its rows")
+        _no_duplicate_names("parameter", self.parameters)
+        return self
+
+
 class Workflow(Scoring):
     simulator: SimulatorConfig
-    parameters: list[Parameter] = Field(min_length=1)
+    parameters: list[Parameter] = Field(default_factory=list)
+    """Tuners; with ``classes``, the global ones shared by every class."""
+    classes: list[CalibrationClass] = Field(default_factory=list)
+    """Calibration classes (operating states), each with its own tuners and objectives."""
     optimiser: OptimiserConfig
     execution: ExecutionConfig = Field(default_factory=ExecutionConfig)
     output: str = "runs"
@@ -322,7 +365,27 @@ class Workflow(Scoring):
     @model_validator(mode="after")
     def _unique_parameters(self):
         _no_duplicate_names("parameter", self.parameters)
+        _no_duplicate_names("class", self.classes)
+        if not self.parameters and not any(c.parameters for c in self.classes):
+            raise ValueError("'parameters' needs at least one tuner")
+        shared = {p.name for p in self.parameters}
+        targets = {t.name for t in self.targets}
+        for c in self.classes:
+            both = sorted(shared & {p.name for p in c.parameters})
+            if both:
+                raise ValueError(f"class {c.name!r}: {both[0]!r} is a global tuner already")
+            unknown = sorted(set(c.targets or ()) - targets)
+            if unknown:
+                raise ValueError(f"class {c.name!r}: no target named {unknown[0]!r}; targets: {', '.join(sorted(targets))}")
         return self
+
+    @property
+    def tuners(self) -> list[Parameter]:
+        """Every tuner the optimiser sees: the global ones, then each class's as '<class>.<name>'."""
+        out = list(self.parameters)
+        for c in self.classes:
+            out += [p.model_copy(update={"name": f"{c.name}.{p.name}"}) for p in c.parameters]
+        return out
 
 
 # ---------------------------------------------------------------------------------------------

@@ -80,6 +80,20 @@ class MetricSlot:
         return float(self.metric(measured, simulated, times))
 
 
+@dataclass(frozen=True)
+class ClassRun:
+    """One calibration class: the model parameters its simulation takes from which tuners.
+
+    With classes, an evaluation simulates once per class (global tuners plus the class's own)
+    and scores each class's targets (measured values outside the class masked) on its run."""
+
+    name: str
+    parameters: tuple[tuple[str, str], ...]
+    """(model parameter, tuner name) pairs."""
+    targets: tuple[int, ...]
+    """Indices into ``EvaluationSetup.targets`` scored on this class's simulation."""
+
+
 @dataclass
 class EvaluationSetup:
     """Everything a worker needs to evaluate parameter sets; shipped once per worker."""
@@ -92,6 +106,8 @@ class EvaluationSetup:
     timeout_s: float | None = None
     case_parameters: list[dict[str, float]] | None = None
     """Per case, parameter values taken from the data (initial states); tuners override none."""
+    classes: list[ClassRun] | None = None
+    """Calibration classes (see :class:`ClassRun`); None: one simulation with the tuners as named."""
     columns: list[str] = field(init=False)
 
     def __post_init__(self):
@@ -146,6 +162,17 @@ def _simulate_all(setup: EvaluationSetup, params: dict[str, float], deadline: fl
     return series
 
 
+def _simulate_classes(setup: EvaluationSetup, params: dict[str, float], deadline: float | None):
+    """One simulation per class with its own parameter values; each target from its class's run."""
+    series: list = [None] * len(setup.targets)
+    for run in setup.classes:
+        values = {model: params[tuner] for model, tuner in run.parameters}
+        simulated = _simulate_all(setup, values, deadline)
+        for i in run.targets:
+            series[i] = simulated[i]
+    return series
+
+
 def evaluate(setup: EvaluationSetup, eval_id: int, params: dict[str, float], keep_series: bool = False) -> dict:
     """Evaluate one parameter set. Never raises for a failed simulation: it is a result."""
     t0 = time.perf_counter()
@@ -153,7 +180,7 @@ def evaluate(setup: EvaluationSetup, eval_id: int, params: dict[str, float], kee
     row: dict = {"eval_id": eval_id, "status": STATUS_OK, "error": None, "errors": None}
     sim_time = metric_time = 0.0
     try:
-        series = _simulate_all(setup, params, deadline)
+        series = _simulate_classes(setup, params, deadline) if setup.classes else _simulate_all(setup, params, deadline)
         t1 = time.perf_counter()
         sim_time = t1 - t0
         errors = {}

@@ -90,10 +90,10 @@ class Report:
         if not self.flagged:
             return []
         spans = ", ".join(f"{t.name} takes {t.low:.4g}–{t.high:.4g}" for t in self.tuners if not t.identifiable)
-        text = (
-            f"identifiability: {spans} at the same error (within {100 * self.tolerance:g} % of the front in every "
-            f"objective, {self.near} evaluations); these tuners are not identifiable from these data"
-        )
+        where = f"{self.near} evaluations within {100 * self.tolerance:g} % of the front in every objective"
+        if self.local:
+            where += ", and a local probe around the knee"
+        text = f"identifiability: {spans} at as good an error ({where}); these tuners are not identifiable from these data"
         if self.combinations:
             text += "; determined: " + ", ".join(f"{c.text} (±{100 * c.spread / 2:.1f} %)" for c in self.combinations)
         else:

@@ -26,6 +26,7 @@ TEMPERATURE_UNITS = {"K", "degC", "°C", "C", "degF", "°F"}
 ENERGY_UNITS = {"W", "kW", "MW", "J", "kJ", "MJ", "Wh", "kWh", "MWh"}
 # ASHRAE Guideline 14 limits for hourly data: CV(RMSE) <= 30 %, |NMBE| <= 10 %
 ASHRAE14_HOURLY = (0.30, 0.10)
+ASHRAE14_MIN_HOURS = 24  # a verdict on a few hours says nothing about the calibration
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,8 @@ def ashrae14_notes(target: str, kind: str, measured: np.ndarray, simulated: np.n
     s = np.bincount(inverse, weights=simulated[ok])
     n = len(m)
     mean = m.mean()
+    if n < ASHRAE14_MIN_HOURS:
+        return [f"ashrae14: {target} on {kind} data covers {n} hours; too short for an ASHRAE Guideline 14 verdict (at least {ASHRAE14_MIN_HOURS})"]
     if n <= p or mean == 0:
         return []
     cv = math.sqrt(float(((m - s) ** 2).sum()) / (n - p)) / mean
@@ -147,7 +150,7 @@ def run_notes(prepared, summary: dict, series: dict) -> list[str]:
     m = prepared.wf.model
     notes: list[str] = []
     knee = summary.get("featured", {}).get("knee")
-    tuners = [TunerRange(p.name, p.min, p.max, p.scale == "log") for p in m.parameters]
+    tuners = [TunerRange(p.name, p.min, p.max, p.scale == "log") for p in m.tuners]
     if knee:
         notes += bound_notes(tuners, knee["parameters"])
         if "validation" in knee:

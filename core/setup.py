@@ -11,13 +11,14 @@ import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 from pydantic import ValidationError
 
 from .config import LoadedWorkflow, load_workflow, parse_duration, validation_error
 from .data import MeasuredData, Segment, input_series, load_measured, seconds_since, segments
 from .errors import ConfigError, PluginError, SimgapError
-from .evaluation import Bins, EvaluationSetup, MetricSlot, TargetData
+from .evaluation import Bins, ClassRun, EvaluationSetup, MetricSlot, TargetData
 from .interfaces import PluginContext, Problem, SimulationCase, Simulator
 from .plugin_host import Registry, get_registry
 from .space import ParameterSpace
@@ -139,6 +140,17 @@ def check_model(wf: LoadedWorkflow, simulator: Simulator) -> None:
         raise wf.error(key, f"the model ({m.simulator.plugin}) cannot take: {listed}")
 
 
+def _check_class_parameters(wf: LoadedWorkflow, simulator: Simulator) -> None:
+    """Every class tuner a settable model parameter (the global ones are checked above)."""
+    variables = simulator.variables()
+    for k, c in enumerate(wf.model.classes):
+        for i, p in enumerate(c.parameters):
+            var = variables.get(p.name)
+            if var is None or not var.settable:
+                why = "no such variable" if var is None else (var.why_not_settable or f"a {var.kind}, not a settable parameter")
+                raise wf.error(("classes", k, "parameters", i, "name"), f"the model ({wf.model.simulator.plugin}) cannot take: {p.name!r} ({why})")
+
+
 def _check_columns(wf: LoadedWorkflow, data: MeasuredData) -> None:
     cols = set(data.frame.columns)
     available = ", ".join(map(str, data.frame.columns))
@@ -217,10 +229,70 @@ def targets_and_slots(wf: LoadedWorkflow, registry: Registry, scored: pd.DataFra
     return targets, slots
 
 
+def class_rows(wf: LoadedWorkflow, index: int, rows: pd.DataFrame) -> np.ndarray:
+    """Which of ``rows`` belong to class ``index``: in one of its ranges (if any) and meeting
+    every condition."""
+    c = wf.model.classes[index]
+    inside = np.ones(len(rows), dtype=bool)
+    if c.ranges:
+        in_range = np.zeros(len(rows), dtype=bool)
+        for j, r in enumerate(c.ranges):
+            try:
+                start, end = pd.Timestamp(r.start), pd.Timestamp(r.end)
+            except (ValueError, TypeError):
+                raise wf.error(("classes", index, "ranges", j), "expected timestamps such as '2024-01-15 06:00'") from None
+            in_range |= (rows.index >= start) & (rows.index <= end)
+        inside &= in_range
+    for j, cond in enumerate(c.when):
+        if cond.column not in rows.columns:
+            raise wf.error(("classes", index, "when", j, "column"), f"measured column {cond.column!r} not in the data; columns: {', '.join(map(str, rows.columns))}")
+        values = rows[cond.column].to_numpy(dtype=float)
+        with np.errstate(invalid="ignore"):
+            if cond.above is not None:
+                inside &= values > cond.above
+            if cond.below is not None:
+                inside &= values < cond.below
+    return inside
+
+
+def _classes(wf: LoadedWorkflow, scored: pd.DataFrame, targets: list[TargetData], slots: list[MetricSlot]):
+    """Targets and metric slots per calibration class ('<class>.<target>'), measured values
+    outside the class masked; and the parameters each class's simulation takes."""
+    m = wf.model
+    names = [t.name for t in m.targets]
+    out_targets, out_slots, runs = [], [], []
+    for k, c in enumerate(m.classes):
+        inside = class_rows(wf, k, scored)
+        if not inside.any():
+            raise wf.error(("classes", k), f"class {c.name!r} holds no row of these segments")
+        chosen = [names.index(t) for t in c.targets] if c.targets is not None else range(len(names))
+        indices = []
+        for i in chosen:
+            t = targets[i]
+            measured = t.measured.copy()
+            measured[~inside] = np.nan
+            indices.append(len(out_targets))
+            out_targets.append(TargetData(name=f"{c.name}.{t.name}", variables=t.variables, measured=measured, time=t.time))
+            for slot in slots:
+                if slot.target == i:
+                    new = MetricSlot(target=indices[-1], key=slot.key, metric=slot.metric, objective=slot.objective, bins=slot.bins)
+                    try:
+                        new.score(out_targets[-1], measured)
+                    except ValueError as exc:
+                        raise wf.error(("classes", k), f"{slot.key} on {t.name} in class {c.name!r}: {exc}") from None
+                    out_slots.append(new)
+        parameters = [(p.name, p.name) for p in m.parameters] + [(p.name, f"{c.name}.{p.name}") for p in c.parameters]
+        runs.append(ClassRun(name=c.name, parameters=tuple(parameters), targets=tuple(indices)))
+    return out_targets, out_slots, runs
+
+
 def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes) -> EvaluationSetup:
     token = uuid.uuid4().hex[:12]
     cases, scored, initial = _cases(wf, data, segs, token, notes)
     targets, slots = targets_and_slots(wf, registry, scored)
+    runs = None
+    if wf.model.classes:
+        targets, slots, runs = _classes(wf, scored, targets, slots)
     timeout = parse_duration(wf.model.execution.timeout).total_seconds()
     return EvaluationSetup(
         token=token,
@@ -230,6 +302,7 @@ def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes)
         slots=slots,
         timeout_s=timeout,
         case_parameters=initial if any(initial) else None,
+        classes=runs,
     )
 
 
@@ -258,7 +331,8 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
     check_model(wf, simulator)
 
     notes = list(data.notes)
-    space = ParameterSpace.from_config(m.parameters)
+    _check_class_parameters(wf, simulator)
+    space = ParameterSpace.from_config(m.tuners)
     training = _setup(wf, registry, simulator, data, train_segs, notes)
     validation = _setup(wf, registry, simulator, data, valid_segs, notes) if valid_segs else None
     problem = Problem(
@@ -266,7 +340,7 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
         n_obj=len(training.objective_columns),
         variable_names=space.names,
         objective_names=tuple(training.objective_columns),
-        x0=space.start_point(m.parameters),
+        x0=space.start_point(m.tuners),
     )
     if problem.n_obj == 0:
         raise wf.error(("targets",), "no metric is an objective; set 'objective: true' on at least one")
