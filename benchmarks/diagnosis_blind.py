@@ -181,6 +181,11 @@ def table(results: list[dict]) -> str:
         )
     effects = [r for r in results if r["effect"]]
     nulls = [r for r in results if not r["effect"]]
+    if effects and any("top1_same_physics" in r for r in effects):
+        same = [r for r in effects if "top1_same_physics" in r]
+        rows.append(f"| **all** | **effects, a generic effect of the same physics counted** | {len(same)} | "
+                    f"**{sum(r['top1_same_physics'] for r in same) / len(same):.0%}** | "
+                    f"**{sum(r['top3_same_physics'] for r in same) / len(same):.0%}** | | | | – |")
     if effects:
         rows.append(
             f"| **all** | **effects** | {len(effects)} | **{sum(r['top1'] for r in effects) / len(effects):.0%}** | "
