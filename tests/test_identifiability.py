@@ -37,7 +37,9 @@ def two_resistance_data(path: Path, days: float = 4, noise: float = 0.02, seed: 
     core[0] = 285.0
     for k in range(1, len(t)):
         core[k] = t_out[k - 1] + (core[k - 1] - t_out[k - 1]) * decay
-    zone = (r2 * t_out + r1 * core) / (r1 + r2) + rng.normal(0, noise, size=len(t))
+    # an FMU output at t_k comes from the step that held the input of t_(k-1)
+    held = np.concatenate([t_out[:1], t_out[:-1]])
+    zone = (r2 * held + r1 * core) / (r1 + r2) + rng.normal(0, noise, size=len(t))
     frame = pd.DataFrame({"time": t, "T_out": t_out, "T_zone": zone, "T_core0": core})
     frame.to_csv(path, index=False)
 
