@@ -35,8 +35,10 @@ from .results import (
     prepare_run_dir,
     read_log,
     read_run_info,
+    set_aside,
     write_run_info,
 )
+from .runlock import RunFolderLock
 from .setup import Prepared, prepare
 
 
@@ -160,9 +162,24 @@ def resume(
     return calibrate(prepared, workers=workers, scheduler=scheduler, progress=progress, on_generation=on_generation, resume_dir=run_dir)
 
 
-def calibrate(
+def calibrate(prepared: Prepared, **options) -> Path:
+    """Run the workflow's calibration; returns the run directory (options: see :func:`_calibrate`).
+
+    The run folder is locked while the run writes it: a second writer is refused, naming the
+    host and process that holds it.
+    """
+    locks: list[RunFolderLock] = []
+    try:
+        return _calibrate(prepared, locks=locks, **options)
+    finally:
+        for lock in locks:
+            lock.release()
+
+
+def _calibrate(
     prepared: Prepared,
     *,
+    locks: list,
     workers: int | None = None,
     scheduler: str | None = None,
     output: str | Path | None = None,
@@ -186,12 +203,18 @@ def calibrate(
     m = prepared.wf.model
     setup = prepared.training
     replay = None
+    log_notes: list[str] = []
     if resume_dir is not None:
         run_dir = Path(resume_dir)
         info = read_run_info(run_dir)
         run_id = info["run_id"]
+        locks.append(RunFolderLock(run_dir).acquire())
         store = RunStore(run_dir, run_id, prepared.space.names, setup.columns, setup.objective_columns)
-        log = read_log(run_dir)
+        damaged: list = []
+        log = read_log(run_dir, damaged=damaged)
+        for part, reason in damaged:
+            set_aside(part)
+            log_notes.append(f"{part}: damaged ({reason}); set aside, its evaluations are run again")
         if log is not None:
             store.preload(log, run_dir / EVALUATIONS)
             replay = _Replay(log, prepared.space.names, setup.objective_columns, run_dir)
@@ -199,6 +222,7 @@ def calibrate(
         write_run_info(run_dir, info)
     else:
         parent = Path(output) if output is not None else prepared.wf.resolve(m.output)
+        explicit_id = run_id is not None
         run_id = run_id or _run_id(prepared)
         text = workflow_text if workflow_text is not None else prepared.wf.path.read_text(encoding="utf-8")
         info = {
@@ -207,7 +231,9 @@ def calibrate(
             "started": datetime.now(),
             **(run_info or {}),
         }
-        run_dir = prepare_run_dir(parent, run_id, text, info)
+        run_dir = prepare_run_dir(parent, run_id, text, info, unique=not explicit_id)
+        run_id = run_dir.name
+        locks.append(RunFolderLock(run_dir).acquire())
         store = RunStore(run_dir, run_id, prepared.space.names, setup.columns, setup.objective_columns)
     budget = _Budget(prepared)
     started = datetime.now()
@@ -222,6 +248,10 @@ def calibrate(
             scheduler=scheduler or execution.scheduler,
             batch_size=execution.batch_size,
         )
+    if locks[-1].note:
+        log_notes.append(f"{run_dir}: {locks[-1].note}")
+    for note in log_notes:
+        progress.message(note)
     with executor if own_executor else contextlib.nullcontext(executor):
         if replay is not None:
             progress.message(f"resuming run {run_id}: {replay.logged} evaluations logged; {executor.description}")
@@ -292,8 +322,10 @@ def calibrate(
             pareto, series = _validate(prepared, executor, pareto, featured, next_id)
             probe = _probe(prepared, executor, pareto, next_id)
         store.write_pareto(pareto)
+        store.compact()  # one file for readers of a finished run; costs one write of the log
 
     summary = _summary(prepared, store, frame, pareto, featured, run_id, started, t_start, loop_wall, n_workers, stop_reason)
+    summary["notes"] = list(summary.get("notes") or []) + log_notes
     if replay is not None:
         summary["resumed"] = {"evaluations_from_log": replayed, "evaluations_now": len(store) - replayed}
     _trust(prepared, summary, frame, pareto, series, run_dir, probe)

@@ -16,6 +16,7 @@ import pyarrow.parquet as pq
 import pytest
 from click.testing import CliRunner
 from simgap.cli import main
+from simgap.results import log_parts, read_log
 
 from tests.conftest import QUICKSTART, set_budget
 
@@ -81,7 +82,7 @@ def runs(tmp_path_factory):
     os.killpg(killed.pid, signal.SIGKILL)
     killed.wait(timeout=30)
     (run_dir,) = (tmp / "killed").iterdir()
-    before = pd.read_parquet(run_dir / "evaluations.parquet")
+    before = read_log(run_dir).to_pandas()  # every part, none a merge left behind
     interrupted = tmp / "interrupted_copy"
     shutil.copytree(run_dir, interrupted)
 
@@ -152,3 +153,30 @@ def test_resume_of_a_finished_run_or_a_non_run_fails_clearly(runs, tmp_path):
     assert result.exit_code == 2 and "run.json" in result.output
     result = CliRunner().invoke(main, ["run"])
     assert result.exit_code == 2 and "--resume DIR" in result.output
+
+
+def test_truncated_last_part_resumes_with_everything_else_kept(runs, tmp_path):
+    copy = tmp_path / "damaged"
+    shutil.copytree(runs["interrupted"], copy)
+    parts, _ = log_parts(copy / "evaluations.parquet")
+    last = parts[-1]
+    lost = pq.read_table(last).num_rows
+    assert 0 < lost < len(runs["before"])
+    last.write_bytes(last.read_bytes()[: last.stat().st_size // 2])  # a torn write, e.g. a full disk
+    # a temporary file left by a kill during a flush: never taken for the log
+    (copy / "evaluations.parquet" / ".part-999999-999999.parquet.tmp").write_bytes(b"PAR1 torn")
+    result = CliRunner().invoke(main, ["run", "--resume", str(copy), "--workers", "2"])
+    assert result.exit_code == 0, result.output
+    assert f"{last}: damaged" in result.output
+    kept = len(runs["before"]) - lost
+    assert f"resumed: {kept} evaluations taken from the log, {EVALUATIONS - kept} evaluated now" in result.output
+    log = read_log(copy).to_pandas()
+    assert log["eval_id"].is_unique and sorted(log["eval_id"]) == list(range(EVALUATIONS))
+    before = runs["before"].set_index("eval_id").sort_index()
+    intact = before.drop(pq.read_table(runs["interrupted"] / "evaluations.parquet" / last.name).column("eval_id").to_pylist())
+    pd.testing.assert_frame_equal(log.set_index("eval_id").loc[intact.index], intact)  # kept as logged
+    whole = pd.read_parquet(runs["whole"] / "pareto.parquet")
+    resumed = pd.read_parquet(copy / "pareto.parquet")
+    columns = [c for c in whole.columns if c.startswith(("param.", "objective."))] + ["eval_id"]
+    pd.testing.assert_frame_equal(whole[columns], resumed[columns])
+    assert (copy / "evaluations.parquet" / (".damaged-" + last.name)).is_file()
