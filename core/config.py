@@ -6,6 +6,7 @@ plugin's own ``Options`` model after the names have been resolved.
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 from typing import Any, Literal
@@ -117,6 +118,21 @@ class DataConfig(Section):
     """Resample to this period (interval means), e.g. '10min'."""
     segments: Segments | None = None
     """Training and validation time ranges; a calibration needs them, scoring does not."""
+    timezone: str | None = None
+    """IANA zone of naive local timestamps (a BMS export, e.g. 'Europe/Berlin'): converted to
+    UTC, the repeated autumn hour and the missing spring hour handled and noted."""
+
+    @field_validator("timezone")
+    @classmethod
+    def _known_zone(cls, value):
+        if value is not None:
+            from zoneinfo import ZoneInfo, ZoneInfoNotFoundError
+
+            try:
+                ZoneInfo(value)
+            except (ZoneInfoNotFoundError, ValueError):
+                raise ValueError(f"unknown time zone {value!r}; expected an IANA name such as 'Europe/Berlin' or 'UTC'") from None
+        return value
 
 
 
@@ -144,6 +160,13 @@ class Parameter(Section):
     start: float | None = None
     scale: Literal["linear", "log"] = "linear"
     unit: str | None = None
+
+    @field_validator("min", "max", "start")
+    @classmethod
+    def _finite(cls, value):
+        if value is not None and not math.isfinite(value):
+            raise ValueError(f"expected a finite number, got {value}; the optimiser samples between min and max")
+        return value
 
     @model_validator(mode="after")
     def _bounds(self):

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 
 from .config import LoadedWorkflow, TimeRange, parse_duration
+from .errors import ConfigError
 from .units import conversion
 
 DEFAULT_ORIGIN = "2000-01-01 00:00"
@@ -46,25 +49,83 @@ def _read_table(wf: LoadedWorkflow) -> pd.DataFrame:
         if suffix in (".parquet", ".pq"):
             return pd.read_parquet(path)
         if suffix in (".csv", ".txt", ".tsv"):
+            from .yamlfile import utf8_text
+
+            utf8_text(path, "the measured data file")  # one line naming the line, not a codec traceback
             return pd.read_csv(path, sep="\t" if suffix == ".tsv" else ",")
+    except ConfigError:
+        raise
     except Exception as exc:  # pandas/pyarrow raise many types; the user needs the file and why
         raise wf.error(("data", "file"), f"cannot read {path.name}: {type(exc).__name__}: {exc}") from None
     raise wf.error(("data", "file"), f"expected a .csv or .parquet file, got {path.name}")
 
 
-def _parse_time(wf: LoadedWorkflow, table: pd.DataFrame) -> pd.DatetimeIndex:
+_OFFSET = r"(?:Z|[+-]\d{2}:?\d{2})$"
+
+
+def _same_kind_of_time(wf: LoadedWorkflow, raw: pd.Series, key) -> None:
+    """Timestamps with a UTC offset mixed with naive ones: one line naming the first row of each."""
+    if pd.api.types.is_numeric_dtype(raw) or pd.api.types.is_datetime64_any_dtype(raw):
+        return
+    text = raw.astype(str).str.strip()
+    aware = text.str.contains(_OFFSET, regex=True)
+    if aware.any() and not aware.all():
+        first_aware, first_naive = int(aware.to_numpy().argmax()), int((~aware).to_numpy().argmax())
+        raise wf.error(
+            key,
+            f"column {wf.model.data.time.column!r} mixes timestamps with a UTC offset (data row {first_aware + 1}: "
+            f"{text.iloc[first_aware]!r}) and without (data row {first_naive + 1}: {text.iloc[first_naive]!r}); "
+            "give all with an offset, or all local and set data.timezone",
+        )
+
+
+def _local_to_utc(wf: LoadedWorkflow, index: pd.DatetimeIndex, notes: list[str]) -> pd.DatetimeIndex:
+    """Naive local timestamps (a BMS export) to naive UTC across daylight-saving changes.
+
+    The autumn hour that occurs twice is told apart by order (the first pass is summer time);
+    where order cannot tell (the repeated hour logged once), the summer-time reading is taken.
+    A time in the spring hour that does not exist is moved forward by the gap.
+    """
+    zone = wf.model.data.timezone
+    ambiguous = np.zeros(len(index), dtype=bool)
+    try:
+        local = index.tz_localize(zone, ambiguous="infer", nonexistent="shift_forward")
+    except Exception:  # pytz/pandas AmbiguousTimeError: the repeated hour cannot be inferred
+        probe = index.tz_localize(zone, ambiguous="NaT", nonexistent="shift_forward")
+        ambiguous = np.asarray(probe.isna())
+        local = index.tz_localize(zone, ambiguous=np.ones(len(index), dtype=bool), nonexistent="shift_forward")
+    repeated = index.tz_localize(zone, ambiguous="NaT", nonexistent="NaT")
+    n_repeated = int((repeated.isna() & ~index.tz_localize(zone, ambiguous=True, nonexistent="NaT").isna()).sum())
+    n_missing = int(index.tz_localize(zone, ambiguous=True, nonexistent="NaT").isna().sum())
+    utc = local.tz_convert("UTC").tz_localize(None)
+    notes.append(
+        f"data.timezone {zone}: local timestamps converted to UTC"
+        + (f"; {n_repeated} samples in a repeated autumn hour told apart by their order" if n_repeated else "")
+        + (f" ({int(ambiguous.sum())} could not be, taken as summer time)" if ambiguous.any() else "")
+        + (f"; {n_missing} samples in a missing spring hour moved forward by the gap" if n_missing else "")
+    )
+    return utc
+
+
+def _parse_time(wf: LoadedWorkflow, table: pd.DataFrame, notes: list[str]) -> pd.DatetimeIndex:
     spec = wf.model.data.time
     key = ("data", "time", "column")
     if spec.column not in table.columns:
         raise wf.error(key, f"time column {spec.column!r} not in {wf.model.data.file}; columns: {', '.join(map(str, table.columns))}")
     raw = table[spec.column]
     if spec.unit == "datetime":
+        _same_kind_of_time(wf, raw, key)
         try:
             index = pd.DatetimeIndex(pd.to_datetime(raw, format=spec.format))
         except (ValueError, TypeError) as exc:
-            raise wf.error(key, f"cannot parse column {spec.column!r} as timestamps: {exc}") from None
+            reason = str(exc).split(". You might want")[0].split(", at position")[0]
+            raise wf.error(key, f"cannot parse column {spec.column!r} as timestamps: {reason}") from None
         if index.tz is not None:
+            if wf.model.data.timezone is not None:
+                raise wf.error(("data", "timezone"), f"the timestamps in {spec.column!r} carry their own offset (e.g. {raw.iloc[0]!r}); 'timezone' is for naive local times, remove it")
             index = index.tz_convert("UTC").tz_localize(None)
+        elif wf.model.data.timezone is not None:
+            index = _local_to_utc(wf, index, notes)
     else:
         values = pd.to_numeric(raw, errors="coerce")
         if values.isna().any():
@@ -80,9 +141,11 @@ def _parse_time(wf: LoadedWorkflow, table: pd.DataFrame) -> pd.DatetimeIndex:
 def load_measured(wf: LoadedWorkflow) -> MeasuredData:
     cfg = wf.model.data
     table = _read_table(wf)
-    index = _parse_time(wf, table)
+    notes: list[str] = []
+    index = _parse_time(wf, table, notes)
     frame = table.drop(columns=[cfg.time.column])
     frame.index = index
+    notes += _order_notes(wf, index)
     frame = frame[~frame.index.duplicated(keep="first")].sort_index()
     if len(frame) < 2:
         raise wf.error(("data", "file"), "the measured data has fewer than two samples")
@@ -100,7 +163,8 @@ def load_measured(wf: LoadedWorkflow) -> MeasuredData:
             series = series * scale + offset
         frame[new_name] = series
 
-    # text columns become all-NaN; if a workflow names one, scoring reports it as empty
+    _no_text_in_used_columns(wf, frame)
+    # other text columns become all-NaN; nothing reads them
     frame = frame.apply(pd.to_numeric, errors="coerce")
     for i, step in enumerate(cfg.preprocess):
         missing = [c for c in step.columns_read() if c not in frame.columns]
@@ -109,7 +173,53 @@ def load_measured(wf: LoadedWorkflow) -> MeasuredData:
         frame = step.apply(frame)
     if cfg.resample is not None:
         frame = frame.resample(parse_duration(cfg.resample)).mean()
-    return MeasuredData(frame=frame.astype(float))
+    return MeasuredData(frame=frame.astype(float), notes=notes)
+
+
+def _order_notes(wf: LoadedWorkflow, index: pd.DatetimeIndex) -> list[str]:
+    """Duplicate and unsorted timestamps are accepted (first kept, rows sorted) and noted."""
+    notes = []
+    column, name = wf.model.data.time.column, Path(wf.model.data.file).name
+    duplicated = np.asarray(index.duplicated(keep="first"))
+    if duplicated.any():
+        row = int(duplicated.argmax())
+        notes.append(f"{name}: {int(duplicated.sum())} duplicate timestamps in {column!r} (first at data row {row + 1}, {index[row]}); the first of each kept")
+    backwards = np.flatnonzero(np.diff(index.asi8) < 0)
+    if backwards.size:
+        row = int(backwards[0]) + 1
+        notes.append(f"{name}: timestamps in {column!r} not in order ({backwards.size} steps back, first at data row {row + 1}, {index[row]}); rows sorted by time")
+    return notes
+
+
+def _used_columns(wf: LoadedWorkflow) -> dict[str, tuple]:
+    """Source columns the workflow reads as numbers -> the workflow key that names them."""
+    m = wf.model
+    renamed = {new: spec.source for new, spec in m.data.columns.items()}
+    used: dict[str, tuple] = {}
+    for i, target in enumerate(getattr(m, "targets", None) or []):
+        for col in target.measured_columns:
+            used.setdefault(renamed.get(col, col), ("targets", i, "measured"))
+    simulator = getattr(m, "simulator", None)
+    for var, col in (getattr(simulator, "inputs", None) or {}).items():
+        used.setdefault(renamed.get(col, col), ("simulator", "inputs", var))
+    return used
+
+
+def _no_text_in_used_columns(wf: LoadedWorkflow, frame: pd.DataFrame) -> None:
+    """Text in a column the workflow scores or feeds: one line naming the column and first bad row."""
+    for source, key in _used_columns(wf).items():
+        if source not in frame.columns or pd.api.types.is_numeric_dtype(frame[source]):
+            continue
+        raw = frame[source]
+        numbers = pd.to_numeric(raw, errors="coerce")
+        text = numbers.isna() & raw.notna() & (raw.astype(str).str.strip() != "")
+        if text.any():
+            row = int(text.to_numpy().argmax())
+            raise wf.error(
+                key,
+                f"column {source!r} of {Path(wf.model.data.file).name} holds text: {raw.iloc[row]!r} at data row {row + 1} "
+                f"({frame.index[row]}); {int(text.sum())} such values; expected numbers (an empty cell is a gap)",
+            )
 
 
 def _bound(wf: LoadedWorkflow, data: MeasuredData, value, key) -> pd.Timestamp:
@@ -156,8 +266,25 @@ def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]
         # bounds snap to measured samples, so a simulation's step grid falls on the data's
         # (a share such as '66.7%' rarely lands on a sample)
         first, last = index[inside][0], index[inside][-1]
+        if warmup >= index[-1] - index[0]:
+            raise wf.error(("data", "segments", "warmup"), f"a warm-up of {warmup} is longer than the measured record ({index[0]} .. {index[-1]}, {index[-1] - index[0]})")
+        if first - warmup < index[0]:
+            note = (f"{kind} segment {i}: its warm-up of {warmup} would start at {first - warmup}, before the record "
+                    f"begins; it starts at {index[0]} ({first - index[0]} of warm-up)")
+            if note not in data.notes:
+                data.notes.append(note)
         sim_start = index[index.searchsorted(first - warmup)]
         out.append(Segment(f"{kind}-{i}", first, last, sim_start))
+    if kind == "validation":
+        training = segments(wf, data, "training")
+        for j, seg in enumerate(out):
+            for k, train in enumerate(training):
+                if seg.start < train.end and train.start < seg.end:  # a shared boundary sample is fine
+                    raise wf.error(
+                        ("data", "segments", "validation", j),
+                        f"validation segment {j} ({seg.start} .. {seg.end}) overlaps training segment {k} "
+                        f"({train.start} .. {train.end}); validation must be data the calibration never saw",
+                    )
     return out
 
 

@@ -58,21 +58,50 @@ class YamlDocument:
         return ConfigError(message, where=self.where(path), path=format_path(path) or None)
 
 
-def _plain(node: Any) -> Any:
+# A workflow has hundreds of values; YAML aliases can make a few lines expand to billions
+# (the "billion laughs"), so the expansion to plain data stops here.
+MAX_VALUES = 1_000_000
+
+
+class _TooLarge(Exception):
+    def __init__(self, path: list):
+        self.path = path
+
+
+def _plain(node: Any, budget: list[int] | None = None, path: tuple = ()) -> Any:
+    budget = budget if budget is not None else [MAX_VALUES]
+    budget[0] -= 1
+    if budget[0] < 0:
+        raise _TooLarge(list(path))
     if isinstance(node, CommentedMap):
-        return {str(k): _plain(v) for k, v in node.items()}
+        return {str(k): _plain(v, budget, path + (str(k),)) for k, v in node.items()}
     if isinstance(node, CommentedSeq):
-        return [_plain(v) for v in node]
+        return [_plain(v, budget, path + (i,)) for i, v in enumerate(node)]
     if isinstance(node, str):  # ruamel's scalar string subclasses -> str
         return str(node)
     return node
+
+
+def utf8_text(path: Path, what: str) -> str:
+    """The file's text; one line with the line and byte when it is not UTF-8."""
+    raw = path.read_bytes()
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        column = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise ConfigError(
+            f"{what} is not UTF-8: byte 0x{raw[exc.start]:02x} at column {column}; "
+            "save it as UTF-8 (an editor's 'save with encoding', or iconv -f latin1 -t utf-8)",
+            where=f"{path.name}:{line}",
+        ) from None
 
 
 def read_yaml(path: str | Path) -> YamlDocument:
     path = Path(path)
     if not path.is_file():
         raise ConfigError(f"workflow file not found: {path}")
-    text = path.read_text(encoding="utf-8")
+    text = utf8_text(path, "the workflow file")
     yaml = YAML(typ="rt")
     yaml.allow_duplicate_keys = False
     try:
@@ -86,4 +115,9 @@ def read_yaml(path: str | Path) -> YamlDocument:
         raise ConfigError(f"malformed YAML: {exc}", where=path.name) from None
     if not isinstance(tree, CommentedMap):
         raise ConfigError("expected a mapping of sections (data, simulator, ...) at the top", where=path.name)
-    return YamlDocument(path=path.resolve(), data=_plain(tree), _tree=tree)
+    try:
+        data = _plain(tree)
+    except _TooLarge as exc:
+        doc = YamlDocument(path=path.resolve(), data=None, _tree=tree)
+        raise doc.error(exc.path, f"expands to more than {MAX_VALUES:,} values through YAML aliases (&/*); write the values out or use fewer nested aliases") from None
+    return YamlDocument(path=path.resolve(), data=data, _tree=tree)

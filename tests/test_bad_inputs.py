@@ -1,0 +1,146 @@
+"""The remaining bad inputs (issue 16): one line naming file, line and key or column and row;
+data accepted with a correction get a note that `check` prints and a run keeps."""
+
+from __future__ import annotations
+
+import re
+
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+from simgap.cli import main
+
+from tests.conftest import QUICKSTART
+from tests.test_config_errors import assert_one_line_error
+
+DATA = QUICKSTART.parent.parent / "examples" / "data" / "quickstart_measured.csv"
+
+
+def check(path):
+    return CliRunner().invoke(main, ["check", str(path)])
+
+
+def _line(text: str, needle: str) -> int:
+    return next(i for i, t in enumerate(text.splitlines(), 1) if needle in t)
+
+
+@pytest.fixture
+def with_data(quickstart_text, write_workflow, tmp_path):
+    """Write the quickstart's data changed by ``change`` (a DataFrame of strings) and a workflow reading it."""
+
+    def write(change=None, workflow=lambda t: t, raw: bytes | None = None):
+        path = tmp_path / "measured.csv"
+        if raw is not None:
+            path.write_bytes(raw)
+        else:
+            frame = pd.read_csv(DATA, dtype=str)
+            frame = change(frame) if change else frame
+            frame.to_csv(path, index=False)
+        text = re.sub(r"^(\s*file:).*$", rf"\1 {path}", quickstart_text, count=1, flags=re.M)
+        return write_workflow(workflow(text))
+
+    return write
+
+
+def test_workflow_not_utf8_names_line(quickstart_text, write_workflow):
+    path = write_workflow(quickstart_text)
+    text = path.read_text()
+    line = _line(text, "description:")
+    path.write_bytes(text.replace("description: One", "description: Caf\xe9 One").encode("latin-1"))
+    assert_one_line_error(check(path), f"workflow.yaml:{line}", "not UTF-8", "0xe9")
+
+
+def test_data_not_utf8_names_line(with_data):
+    raw = DATA.read_bytes().replace(b"2025-01-13T00:10:00,1.69", b"2025-01-13T00:10:00,1.69\xb0", 1)
+    assert_one_line_error(check(with_data(raw=raw)), "measured.csv:3", "not UTF-8", "0xb0")
+
+
+def test_yaml_alias_bomb_is_capped(quickstart_text, write_workflow):
+    bomb = "x0: &a0 [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]\n" + "".join(
+        f"x{i}: &a{i} [{', '.join(['*a' + str(i - 1)] * 10)}]\n" for i in range(1, 9)
+    )
+    result = check(write_workflow(quickstart_text + "\nextra:\n" + "".join("  " + l + "\n" for l in bomb.splitlines())))
+    assert_one_line_error(result, "workflow.yaml:", "expands to more than 1,000,000 values", "YAML aliases")
+
+
+def test_infinite_bound(quickstart_text, write_workflow):
+    text = quickstart_text.replace("{name: UA_env, min: 50, max: 400,", "{name: UA_env, min: 50, max: .inf,")
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{_line(text, 'max: .inf')}", "parameters[1].max", "finite")
+
+
+def test_text_in_a_target_column_names_column_and_row(with_data):
+    def change(frame):
+        frame.loc[41, "T_zone_degC"] = "sensor fault"
+        frame.loc[90, "T_zone_degC"] = "n/a"
+        return frame
+
+    assert_one_line_error(check(with_data(change)), "targets[0].measured", "'T_zone_degC'", "'sensor fault' at data row 42")
+
+
+def test_duplicate_and_unsorted_timestamps_are_noted(with_data):
+    def change(frame):
+        rows = frame.to_dict("records")
+        rows.insert(10, dict(rows[9]))  # a duplicate
+        rows[20], rows[21] = rows[21], rows[20]  # out of order
+        return pd.DataFrame(rows)
+
+    result = check(with_data(change))
+    assert result.exit_code == 0, result.output
+    assert "1 duplicate timestamps in 'time' (first at data row 11, 2025-01-13 01:30:00); the first of each kept" in result.output
+    assert "not in order (1 steps back, first at data row 22" in result.output
+
+
+def test_overlapping_training_and_validation(quickstart_text, write_workflow):
+    text = quickstart_text.replace('validation: {start: "66.7%", end: "100%"}', 'validation: {start: "50%", end: "100%"}')
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{_line(text, 'validation:')}", "data.segments.validation[0]", "overlaps training segment 0")
+
+
+def test_warmup_longer_than_the_record(quickstart_text, write_workflow):
+    text = quickstart_text.replace("warmup: 12h", "warmup: 5d")
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{_line(text, 'warmup: 5d')}", "data.segments.warmup", "longer than the measured record")
+
+
+def test_warmup_cut_by_the_record_start_is_noted(quickstart_text, write_workflow):
+    result = check(write_workflow(quickstart_text))
+    assert "training segment 0: its warm-up of 0 days 12:00:00 would start at" in result.output
+
+
+def test_timezone_aware_mixed_with_naive(with_data):
+    def change(frame):
+        frame.loc[5:, "time"] = frame.loc[5:, "time"] + "+01:00"
+        return frame
+
+    msg = assert_one_line_error(check(with_data(change)), "data.time.column", "mixes timestamps with a UTC offset (data row 6", "without (data row 1")
+    assert "utc=True" not in msg and "format=" not in msg
+
+
+def test_local_bms_time_across_daylight_saving(with_data, tmp_path):
+    """Europe/Berlin: the spring hour 02:00-03:00 is missing, the autumn hour 02:00-03:00 repeats."""
+
+    def spring(frame):
+        times = pd.date_range("2025-03-29 12:00", periods=len(frame), freq="10min")
+        times = times[~((times >= "2025-03-30 02:00") & (times < "2025-03-30 03:00"))]  # a clock that jumped
+        frame = frame.iloc[: len(times)].copy()
+        frame["time"] = times.strftime("%Y-%m-%dT%H:%M:%S")
+        return frame
+
+    tz = lambda text: text.replace("  time: time", "  timezone: Europe/Berlin\n  time: time")
+    result = check(with_data(spring, tz))
+    assert result.exit_code == 0, result.output
+    assert "data.timezone Europe/Berlin: local timestamps converted to UTC" in result.output
+    assert "2025-03-29 11:00:00 .." in result.output  # 12:00 CET is 11:00 UTC
+
+    def autumn(frame):
+        utc = pd.date_range("2025-10-25 22:00", periods=len(frame), freq="10min", tz="UTC")
+        frame = frame.copy()
+        frame["time"] = utc.tz_convert("Europe/Berlin").strftime("%Y-%m-%dT%H:%M:%S")  # the BMS writes local time
+        return frame
+
+    result = check(with_data(autumn, tz))
+    assert result.exit_code == 0, result.output
+    assert "12 samples in a repeated autumn hour told apart by their order" in result.output
+    assert "duplicate" not in result.output  # the repeated hour is not taken for duplicates
+    assert "2025-10-25 22:00:00 .." in result.output
+
+    result = check(with_data(autumn, lambda t: t.replace("  time: time", "  timezone: Europe/Berlinn\n  time: time")))
+    assert_one_line_error(result, "data.timezone", "unknown time zone 'Europe/Berlinn'")
