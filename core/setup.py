@@ -140,6 +140,17 @@ def check_model(wf: LoadedWorkflow, simulator: Simulator) -> None:
         raise wf.error(key, f"the model ({m.simulator.plugin}) cannot take: {listed}")
 
 
+def unfed_input_notes(wf: LoadedWorkflow, simulator: Simulator) -> list[str]:
+    """A model input no measured column feeds runs at its start value all along: say so."""
+    fed = set(wf.model.simulator.inputs)
+    where = wf.doc.where(("simulator", "inputs"))
+    return [
+        f"model input {v.name!r} is fed by no measured column ({where}: simulator.inputs); "
+        f"it keeps its start value {v.start if v.start is not None else 'of the model'} all along"
+        for v in simulator.variables().values() if v.kind == "input" and v.name not in fed
+    ]
+
+
 def _check_class_parameters(wf: LoadedWorkflow, simulator: Simulator) -> None:
     """Every class tuner a settable model parameter (the global ones are checked above)."""
     variables = simulator.variables()
@@ -330,7 +341,7 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
     simulator = _build_simulator(wf, registry)
     check_model(wf, simulator)
 
-    notes = list(data.notes)
+    notes = list(data.notes) + unfed_input_notes(wf, simulator)
     _check_class_parameters(wf, simulator)
     space = ParameterSpace.from_config(m.tuners)
     training = _setup(wf, registry, simulator, data, train_segs, notes)

@@ -144,3 +144,12 @@ def test_local_bms_time_across_daylight_saving(with_data, tmp_path):
 
     result = check(with_data(autumn, lambda t: t.replace("  time: time", "  timezone: Europe/Berlinn\n  time: time")))
     assert_one_line_error(result, "data.timezone", "unknown time zone 'Europe/Berlinn'")
+
+
+def test_fmu_input_the_workflow_never_feeds_is_noted(quickstart_text, write_workflow):
+    text = quickstart_text.replace("    Q_sol: Q_sol_W                # solar gains estimated from measured irradiance\n", "")
+    assert "Q_sol: Q_sol_W" not in text
+    result = check(write_workflow(text))
+    assert result.exit_code == 0, result.output
+    line = _line(text, "  inputs:")
+    assert f"model input 'Q_sol' is fed by no measured column (workflow.yaml:{line}: simulator.inputs); it keeps its start value" in result.output
