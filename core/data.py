@@ -205,6 +205,15 @@ def _used_columns(wf: LoadedWorkflow) -> dict[str, tuple]:
     return used
 
 
+def _target_columns(wf: LoadedWorkflow) -> dict[str, str]:
+    """Measured columns (after renames) scored by a target -> the target's key."""
+    out: dict[str, str] = {}
+    for i, target in enumerate(getattr(wf.model, "targets", None) or []):
+        for col in target.measured_columns:
+            out.setdefault(col, f"targets[{i}].measured")
+    return out
+
+
 def _no_text_in_used_columns(wf: LoadedWorkflow, frame: pd.DataFrame) -> None:
     """Text in a column the workflow scores or feeds: one line naming the column and first bad row."""
     for source, key in _used_columns(wf).items():
@@ -262,7 +271,18 @@ def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]
             raise wf.error(key, f"{start} .. {end} lies outside the measured record {index[0]} .. {index[-1]}")
         inside = (index >= start) & (index <= end)
         if inside.sum() < 2:
-            raise wf.error(key, f"{start} .. {end} holds fewer than two measured samples")
+            before, after = index[index < start], index[index > end]
+            gap = f"; the data jump from {before[-1]} to {after[0]} (a gap in the record)" if len(before) and len(after) else ""
+            raise wf.error(key, f"{start} .. {end} holds fewer than two measured samples{gap}")
+        for column, target_key in _target_columns(wf).items():
+            values = data.frame.loc[inside, column] if column in data.frame.columns else None
+            if values is not None and values.notna().sum() < 2:
+                known = data.frame[column].dropna().index
+                before, after = known[known < start], known[known > end]
+                around = (f" (measured up to {before[-1] if len(before) else 'nothing'} and again from "
+                          f"{after[0] if len(after) else 'nothing'})")
+                raise wf.error(key, f"{start} .. {end} lies in a gap of {column!r} ({target_key}): "
+                                    f"{int(values.notna().sum())} measured values inside{around}; move the segment")
         # bounds snap to measured samples, so a simulation's step grid falls on the data's
         # (a share such as '66.7%' rarely lands on a sample)
         first, last = index[inside][0], index[inside][-1]

@@ -153,3 +153,25 @@ def test_fmu_input_the_workflow_never_feeds_is_noted(quickstart_text, write_work
     assert result.exit_code == 0, result.output
     line = _line(text, "  inputs:")
     assert f"model input 'Q_sol' is fed by no measured column (workflow.yaml:{line}: simulator.inputs); it keeps its start value" in result.output
+
+
+def test_segment_inside_a_data_gap(with_data):
+    def change(frame):
+        times = pd.to_datetime(frame["time"])
+        gap = (times >= "2025-01-15 06:00") & (times <= "2025-01-15 18:00")
+        frame.loc[gap, "T_zone_degC"] = ""  # the sensor logged nothing for half a day
+        return frame
+
+    def segments(text):
+        return text.replace('validation: {start: "66.7%", end: "100%"}', 'validation: {start: "2025-01-15 08:00", end: "2025-01-15 16:00"}')
+
+    result = check(with_data(change, segments))
+    assert_one_line_error(result, "data.segments.validation[0]", "lies in a gap of 'T_zone' (targets[0].measured)",
+                          "measured up to 2025-01-15 05:50:00 and again from 2025-01-15 18:10:00")
+
+    def rows_missing(frame):
+        times = pd.to_datetime(frame["time"])
+        return frame[~((times > "2025-01-15 06:00") & (times < "2025-01-15 18:00"))]
+
+    assert_one_line_error(check(with_data(rows_missing, segments)), "data.segments.validation[0]", "fewer than two measured samples",
+                          "the data jump from 2025-01-15 06:00:00 to 2025-01-15 18:00:00")
