@@ -333,6 +333,9 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
 
     if m.data.segments is None:
         raise wf.error(("data",), "a calibration needs 'segments' (training, and validation to check it)")
+    from .memory import check_memory
+
+    check_memory(wf)  # before the data are read: a budget that cannot fit is known from the numbers
     data = load_measured(wf)
     _check_columns(wf, data)
     train_segs = segments(wf, data, "training")

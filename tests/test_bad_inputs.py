@@ -10,7 +10,7 @@ import pytest
 from click.testing import CliRunner
 from simgap.cli import main
 
-from tests.conftest import QUICKSTART
+from tests.conftest import QUICKSTART, set_budget
 from tests.test_config_errors import assert_one_line_error
 
 DATA = QUICKSTART.parent.parent / "examples" / "data" / "quickstart_measured.csv"
@@ -175,3 +175,13 @@ def test_segment_inside_a_data_gap(with_data):
 
     assert_one_line_error(check(with_data(rows_missing, segments)), "data.segments.validation[0]", "fewer than two measured samples",
                           "the data jump from 2025-01-15 06:00:00 to 2025-01-15 18:00:00")
+
+
+def test_budget_or_population_beyond_memory(quickstart_text, write_workflow):
+    text = set_budget(quickstart_text, 100000000000)
+    assert "100000000000" in text
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{_line(text, '100000000000')}", "optimiser.budget.evaluations",
+                          "a budget of 100,000,000,000 evaluations needs about", "use a smaller budget")
+    text = quickstart_text.replace("options: {population: 40}", "options: {population: 2000000}")
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{_line(text, 'population: 2000000')}", "optimiser.options.population",
+                          "a population of 2,000,000 needs about 128 TB to sort each generation")
