@@ -83,28 +83,26 @@ def _local_to_utc(wf: LoadedWorkflow, index: pd.DatetimeIndex, notes: list[str])
     """Naive local timestamps (a BMS export) to naive UTC across daylight-saving changes.
 
     The autumn hour that occurs twice is told apart by order (the first pass is summer time);
-    where order cannot tell (the repeated hour logged once), the summer-time reading is taken.
-    A time in the spring hour that does not exist is moved forward by the gap.
+    where order cannot tell (the hour logged once, or rows out of order), summer time is taken.
+    A time inside the spring hour that does not exist is moved forward by the gap.
     """
     zone = wf.model.data.timezone
-    ambiguous = np.zeros(len(index), dtype=bool)
+    summer = np.ones(len(index), dtype=bool)
+    n_repeated = int((index.tz_localize(zone, ambiguous="NaT", nonexistent="NaT").isna()
+                      & index.tz_localize(zone, ambiguous=summer, nonexistent="NaT").notna()).sum())
+    n_missing = int(index.tz_localize(zone, ambiguous=summer, nonexistent="NaT").isna().sum())
+    how = "told apart by their order"
     try:
         local = index.tz_localize(zone, ambiguous="infer", nonexistent="shift_forward")
-    except Exception:  # pytz/pandas AmbiguousTimeError: the repeated hour cannot be inferred
-        probe = index.tz_localize(zone, ambiguous="NaT", nonexistent="shift_forward")
-        ambiguous = np.asarray(probe.isna())
-        local = index.tz_localize(zone, ambiguous=np.ones(len(index), dtype=bool), nonexistent="shift_forward")
-    repeated = index.tz_localize(zone, ambiguous="NaT", nonexistent="NaT")
-    n_repeated = int((repeated.isna() & ~index.tz_localize(zone, ambiguous=True, nonexistent="NaT").isna()).sum())
-    n_missing = int(index.tz_localize(zone, ambiguous=True, nonexistent="NaT").isna().sum())
-    utc = local.tz_convert("UTC").tz_localize(None)
+    except ValueError:  # pandas cannot infer which pass of the repeated hour a time belongs to
+        local = index.tz_localize(zone, ambiguous=summer, nonexistent="shift_forward")
+        how = "not told apart by their order (logged once or out of order), taken as summer time"
     notes.append(
         f"data.timezone {zone}: local timestamps converted to UTC"
-        + (f"; {n_repeated} samples in a repeated autumn hour told apart by their order" if n_repeated else "")
-        + (f" ({int(ambiguous.sum())} could not be, taken as summer time)" if ambiguous.any() else "")
+        + (f"; {n_repeated} samples in a repeated autumn hour {how}" if n_repeated else "")
         + (f"; {n_missing} samples in a missing spring hour moved forward by the gap" if n_missing else "")
     )
-    return utc
+    return local.tz_convert("UTC").tz_localize(None)
 
 
 def _parse_time(wf: LoadedWorkflow, table: pd.DataFrame, notes: list[str]) -> pd.DatetimeIndex:

@@ -142,6 +142,24 @@ def test_local_bms_time_across_daylight_saving(with_data, tmp_path):
     assert "duplicate" not in result.output  # the repeated hour is not taken for duplicates
     assert "2025-10-25 22:00:00 .." in result.output
 
+    def clock_without_jump(frame):  # a BMS clock that writes the spring hour that does not exist
+        frame = frame.copy()
+        frame["time"] = pd.date_range("2025-03-29 12:00", periods=len(frame), freq="10min").strftime("%Y-%m-%dT%H:%M:%S")
+        return frame
+
+    result = check(with_data(clock_without_jump, tz))
+    assert result.exit_code == 0, result.output
+    assert "6 samples in a missing spring hour moved forward by the gap" in result.output
+
+    def once(frame):  # the repeated hour logged once: order cannot tell which pass it is
+        frame = frame.copy()
+        frame["time"] = pd.date_range("2025-10-25 23:00", periods=len(frame), freq="10min").strftime("%Y-%m-%dT%H:%M:%S")
+        return frame
+
+    result = check(with_data(once, tz))
+    assert result.exit_code == 0, result.output
+    assert "6 samples in a repeated autumn hour not told apart by their order (logged once or out of order), taken as summer time" in result.output
+
     result = check(with_data(autumn, lambda t: t.replace("  time: time", "  timezone: Europe/Berlinn\n  time: time")))
     assert_one_line_error(result, "data.timezone", "unknown time zone 'Europe/Berlinn'")
 
