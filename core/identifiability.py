@@ -1,9 +1,10 @@
 """Which tuners the data pin down: an identifiability report from a run's evaluation log.
 
-No extra simulations. The *near-optimal set* is every successful evaluation within a tolerance
-of the front: ``F_j <= F_j(f) * (1 + tolerance)`` in every objective j for some front point f
+From the log (no extra simulations): the *near-optimal set* is every successful evaluation at
+least about as good as the knee in every objective, ``F_j <= F_j(knee) * (1 + tolerance)``
 (10 % by default: with noisy data the best errors sit on the noise floor, and a tenth of it is
-well inside what another noise draw would change). If a tuner takes values over a large part of its
+well inside what another noise draw would change). The whole front is not used: its spread
+mixes in the trade-off between objectives, which is a choice, not a lack of information. If a tuner takes values over a large part of its
 range inside that set, the data cannot tell those values apart: it is not identifiable. Where
 a few tuners move together inside the set, a combination of them may still be determined; we
 look for it pairwise on the tuners' own scales (log for positive bounds): a straight line
@@ -24,10 +25,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .front import non_dominated
-
 TOLERANCE = 0.10
-"""Near-optimal: within this share of a front point's value in every objective."""
+"""Near-optimal: within this share of the knee's value in every objective."""
 SPREAD_LIMIT = 0.25
 """A tuner whose near-optimal values cover more than this share of its range is flagged."""
 MIN_NEAR = 20
@@ -90,7 +89,7 @@ class Report:
         if not self.flagged:
             return []
         spans = ", ".join(f"{t.name} takes {t.low:.4g}–{t.high:.4g}" for t in self.tuners if not t.identifiable)
-        where = f"{self.near} evaluations within {100 * self.tolerance:g} % of the front in every objective"
+        where = f"{self.near} evaluations within {100 * self.tolerance:g} % of the knee in every objective"
         if self.local:
             where += ", and a local probe around the knee"
         text = f"identifiability: {spans} at as good an error ({where}); these tuners are not identifiable from these data"
@@ -122,7 +121,8 @@ def _scale(values: np.ndarray, low: float, high: float) -> tuple[np.ndarray, flo
 
 
 def near_optimal(objectives: np.ndarray, front: np.ndarray, tolerance: float = TOLERANCE) -> np.ndarray:
-    """Mask of rows within ``tolerance`` (a share) of some front point in every objective."""
+    """Mask of rows within ``tolerance`` (a share) of some reference point (rows of ``front``) in
+    every objective."""
     front = np.atleast_2d(front)
     limit = front + np.abs(front) * tolerance + 1e-12  # (m, k): one box per front point
     inside = np.all(objectives[:, None, :] <= limit[None, :, :], axis=2).any(axis=1)
@@ -137,8 +137,8 @@ def analyse(
     tolerance: float = TOLERANCE,
 ) -> Report:
     """Identifiability of each tuner (columns of ``params``, rows = successful evaluations)."""
-    front = objectives[non_dominated(objectives)]
-    mask = near_optimal(objectives, front, tolerance)
+    # about as good as the knee in every objective: the whole front would mix in the trade-off
+    mask = near_optimal(objectives, objectives[knee_row][None, :], tolerance)
     near = params[mask]
     report = Report(tolerance=tolerance, near=int(mask.sum()), near_values=near)
     if report.near < MIN_NEAR:
@@ -208,9 +208,10 @@ def local_probe(prepared, executor, knee: dict[str, float], first_id: int) -> di
     flat valley leaves a tight cluster. Here the residuals r (each target's measured minus
     simulated, divided by its RMSE at the knee and sqrt(n)) are differentiated in the unit
     coordinates u of the tuners (log for log-scale tuners); with H = JᵀJ the set where the sum
-    of squares rises by at most ΔS = 2·tolerance per target is the ellipsoid δᵀHδ ≤ ΔS, whose
-    half-extent along tuner i is sqrt(ΔS·(H⁻¹)ᵢᵢ) (Gauss–Newton; a flat direction has λ ≈ 0
-    and spans the whole range).
+    of squares rises by at most ΔS = 2·tolerance per target is the ellipsoid δᵀHδ ≤ ΔS
+    (Gauss–Newton), with half-axes sqrt(ΔS/λ) along H's eigenvectors, each at most the box's
+    width (a flat direction, λ ≈ 0, ends at the bounds); a tuner's half-extent is that
+    ellipsoid's extent along its axis.
     """
     from .evaluation import STATUS_OK
 
@@ -255,18 +256,21 @@ def local_probe(prepared, executor, knee: dict[str, float], first_id: int) -> di
         J[:, i] = (vector(up) - vector(down)) / du if du else 0.0
     H = J.T @ J
     lam, V = np.linalg.eigh(H)
-    floor = max(lam.max(), 1e-300) * 1e-12
-    H_inv = V @ np.diag(1.0 / np.maximum(lam, floor)) @ V.T
     delta_s = 2 * TOLERANCE * len(setup.targets)
-    half = np.sqrt(np.maximum(delta_s * np.diag(H_inv), 0.0))
-    return {"names": names, "knee_unit": u0, "half_extent": half, "H_inv": H_inv, "delta_s": delta_s,
+    # half-length of the ellipsoid along each eigenvector, at most the unit box's width: a flat
+    # direction ends at the bounds, and only a tuner's share of it moves that tuner
+    axes = np.minimum(np.sqrt(delta_s / np.maximum(lam, 1e-300)), 1.0)
+    shape = V @ np.diag(axes**2) @ V.T  # the (bounded) ellipsoid: x^T shape^-1 x <= 1
+    half = np.sqrt(np.maximum(np.diag(shape), 0.0))
+    return {"names": names, "knee_unit": u0, "half_extent": half, "shape": shape,
             "eigenvalues": lam.tolist(), "log": space.log.tolist(), "lower": space.lower, "upper": space.upper}
 
 
 def merge_local(report: Report, probe: dict | None) -> Report:
-    """Widen the log-based report with the local probe: a tuner is not identifiable if either
-    says so; determined combinations of flagged tuners come from the probe's ellipsoid."""
-    if probe is None:
+    """The local probe stands in where the log holds too few near-optimal evaluations (an
+    optimiser that converged into a tight cluster); with enough of them the log's spread is
+    measured, not linearised, and stands (with its own pairwise combinations)."""
+    if probe is None or (report.tuners and report.near >= MIN_NEAR):
         return report
     names = probe["names"]
     by_name = {t.name: t for t in report.tuners}
@@ -285,15 +289,15 @@ def merge_local(report: Report, probe: dict | None) -> Report:
             t.spread, t.low, t.high = spread, min(t.low, lo), max(t.high, hi)
             t.identifiable = t.spread <= SPREAD_LIMIT
     flagged = [n for n in report.flagged if n in names]
-    H_inv, delta_s = probe["H_inv"], probe["delta_s"]
+    shape = probe["shape"]
     combos = []
     for x, a in enumerate(flagged):
         for b in flagged[x + 1 :]:
             i, j = names.index(a), names.index(b)
-            e = H_inv[i, j] / H_inv[j, j]  # u_a - e·u_b has the smallest extent
+            e = shape[i, j] / shape[j, j]  # u_a - e·u_b has the smallest extent
             w = np.zeros(len(names))
             w[i], w[j] = 1.0, -e
-            extent = 2 * math.sqrt(max(delta_s * float(w @ H_inv @ w), 0.0))
+            extent = 2 * math.sqrt(max(float(w @ shape @ w), 0.0))
             if extent > SPREAD_LIMIT:  # as tight as an identifiable tuner
                 continue
             width = lambda k: (math.log(probe["upper"][k] / probe["lower"][k]) if probe["log"][k] else probe["upper"][k] - probe["lower"][k])  # noqa: E731
@@ -363,7 +367,7 @@ def _plot(report: Report, path: Path) -> None:
                 ax.set_ylabel(a)
             if i == n - 1:
                 ax.set_xlabel(b)
-    fig.suptitle(f"near-optimal set ({report.near} evaluations within {100 * report.tolerance:g} % of the front); red: not identifiable")
+    fig.suptitle(f"near-optimal set ({report.near} evaluations within {100 * report.tolerance:g} % of the knee); red: not identifiable")
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
     fig.savefig(path, dpi=80)

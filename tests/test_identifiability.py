@@ -67,7 +67,7 @@ optimiser:
   plugin: nsga2
   options: {{population: 40}}
   seed: 2
-  budget: {{evaluations: 1200}}
+  budget: {{evaluations: 600}}
 execution: {{workers: 2, timeout: 30s}}
 output: {out}
 """
@@ -92,11 +92,12 @@ def test_non_identifiable_model_is_flagged_with_its_combination(tmp_path):
 
 
 def test_quickstart_is_not_flagged(tmp_path, quickstart_text, write_workflow):
-    path = write_workflow(set_budget(quickstart_text, 1200))
+    path = write_workflow(set_budget(quickstart_text, 800))
     run_dir = calibrate(prepare(load_workflow(path)), workers=2)
     summary = json.loads((run_dir / "summary.json").read_text())
     report = summary["identifiability"]
-    assert report["near_optimal"] >= identifiability.MIN_NEAR
+    assert report["near_optimal"] >= identifiability.MIN_NEAR or report["local_probe"]
+    assert [t["name"] for t in report["tuners"]] == ["C_zone", "UA_env", "UA_rad", "eta_carnot"]
     assert report["not_identifiable"] == [], report
     assert not [n for n in summary["notes"] if n.startswith("identifiability:")]
 
