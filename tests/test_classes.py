@@ -113,8 +113,8 @@ def two_state_data(tmp_path_factory) -> Path:
 
 
 def test_two_classes_recover_each_truth_one_class_cannot(tmp_path, two_state_data):
-    two = calibrate(prepare(load_workflow(_workflow(tmp_path, "two_classes", two_state_data, TWO_CLASSES))))
-    one = calibrate(prepare(load_workflow(_workflow(tmp_path, "one_class", two_state_data, ONE_CLASS))))
+    two = calibrate(prepare(load_workflow(_workflow(tmp_path, "two_classes", two_state_data, TWO_CLASSES, budget=800))))
+    one = calibrate(prepare(load_workflow(_workflow(tmp_path, "one_class", two_state_data, ONE_CLASS, budget=400))))
     s2 = json.loads((two / "summary.json").read_text())
     s1 = json.loads((one / "summary.json").read_text())
     assert s2["objectives"] == ["cold.T_zone.rmse", "cold.P_el.cvrmse", "mild.T_zone.rmse", "mild.P_el.cvrmse"]
