@@ -87,7 +87,8 @@ def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, eff
     run_dir = calibrate(prepare(_workflow(tmp_path, frame)), workers=2)
     result = diagnose(
         run_dir,
-        overrides={"recalibrate": {"candidates": 2, "population": 12, "generations": 4, "workers": 2}},
+        # one round: this test is about finding the effect (rounds: the two-effect test)
+        overrides={"iterations": 1, "recalibrate": {"candidates": 2, "population": 12, "generations": 4, "workers": 2}},
         progress=None,
     )
     ranking = [c for c in result["candidates"] if c.applicable]
@@ -124,7 +125,7 @@ def test_shipped_brine_water_diagnosis_names_what_the_model_has(tmp_path):
     run_dir = calibrate(prepare(_shipped(tmp_path, "brine_water_hp", 16, 8)), workers=2)
     result = diagnose(
         run_dir,
-        overrides={"recalibrate": {"candidates": 1, "population": 4, "generations": 1, "workers": 2}},
+        overrides={"iterations": 1, "recalibrate": {"candidates": 1, "population": 4, "generations": 1, "workers": 2}},
         progress=None,
     )
     inertia = next(c for c in result["candidates"] if c.name == "start_up_inertia")
