@@ -286,9 +286,12 @@ def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]
         first, last = index[inside][0], index[inside][-1]
         if warmup >= index[-1] - index[0]:
             raise wf.error(("data", "segments", "warmup"), f"a warm-up of {warmup} is longer than the measured record ({index[0]} .. {index[-1]}, {index[-1] - index[0]})")
-        if first - warmup < index[0]:
-            note = (f"{kind} segment {i}: its warm-up of {warmup} would start at {first - warmup}, before the record "
-                    f"begins; it starts at {index[0]} ({first - index[0]} of warm-up)")
+        available = first - index[0]
+        if first > index[0] and available < warmup / 2:
+            # a segment at the record's start simply starts from the measured state; one placed
+            # later with most of its warm-up cut off was meant to settle and cannot
+            note = (f"{kind} segment {i}: {_span(available)} of its {_span(warmup)} warm-up fit before it "
+                    f"(the record starts {index[0]})")
             if note not in data.notes:
                 data.notes.append(note)
         sim_start = index[index.searchsorted(first - warmup)]
@@ -304,6 +307,14 @@ def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]
                         f"({train.start} .. {train.end}); validation must be data the calibration never saw",
                     )
     return out
+
+
+def _span(delta: pd.Timedelta) -> str:
+    seconds = int(delta.total_seconds())
+    for unit, size in (("d", 86400), ("h", 3600), ("min", 60)):
+        if seconds and seconds % size == 0:
+            return f"{seconds // size}{unit}"
+    return f"{seconds}s"
 
 
 def input_series(frame: pd.DataFrame, columns: list[str]) -> tuple[pd.DataFrame, list[str]]:

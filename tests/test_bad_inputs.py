@@ -102,7 +102,11 @@ def test_warmup_longer_than_the_record(quickstart_text, write_workflow):
 
 def test_warmup_cut_by_the_record_start_is_noted(quickstart_text, write_workflow):
     result = check(write_workflow(quickstart_text))
-    assert "training segment 0: its warm-up of 0 days 12:00:00 would start at" in result.output
+    assert "warm-up fit" not in result.output  # a segment at the record's start starts from the measured state
+    text = quickstart_text.replace('training: {start: "0%", end: "66.7%"}', 'training: {start: "2025-01-13 03:00", end: "66.7%"}')
+    result = check(write_workflow(text))
+    assert result.exit_code == 0, result.output
+    assert "note: training segment 0: 3h of its 12h warm-up fit before it (the record starts 2025-01-13 00:00:00)" in result.output
 
 
 def test_timezone_aware_mixed_with_naive(with_data):
