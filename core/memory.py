@@ -58,3 +58,21 @@ def check_memory(wf: LoadedWorkflow, available: int | None = None) -> None:
                 f"a population of {population:,} needs about {_size(sorting)} to sort each generation "
                 f"(every pair of parents and offspring compared); this machine has {_size(available)}; use a smaller population",
             )
+
+
+MAX_STEPS = 100_000_000  # a simulation holds its inputs and outputs per step: 1e8 steps is GBs and minutes
+
+
+def check_steps(wf: LoadedWorkflow, segment_spans_s: list[float]) -> None:
+    """A ``simulator.options.step_size`` that means an impossible number of steps, at its key."""
+    step = (wf.model.simulator.options or {}).get("step_size")
+    if not isinstance(step, (int, float)) or isinstance(step, bool) or step <= 0 or not segment_spans_s:
+        return
+    longest = max(segment_spans_s)
+    steps = longest / step
+    if steps > MAX_STEPS:
+        raise wf.error(
+            ("simulator", "options", "step_size"),
+            f"a step of {step:g} s over the longest simulation ({longest:g} s with warm-up) means {steps:,.0f} "
+            f"steps per simulation (at most {MAX_STEPS:,}); use a larger step_size",
+        )

@@ -340,6 +340,9 @@ def prepare(workflow: str | Path | LoadedWorkflow, registry: Registry | None = N
     _check_columns(wf, data)
     train_segs = segments(wf, data, "training")
     valid_segs = segments(wf, data, "validation")
+    from .memory import check_steps
+
+    check_steps(wf, [(seg.end - seg.sim_start).total_seconds() for seg in train_segs + valid_segs])
 
     simulator = _build_simulator(wf, registry)
     check_model(wf, simulator)

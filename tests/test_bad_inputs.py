@@ -207,3 +207,10 @@ def test_budget_or_population_beyond_memory(quickstart_text, write_workflow):
     text = quickstart_text.replace("options: {population: 40}", "options: {population: 2000000}")
     assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{_line(text, 'population: 2000000')}", "optimiser.options.population",
                           "a population of 2,000,000 needs about 128 TB to sort each generation")
+
+
+def test_step_size_meaning_an_impossible_number_of_steps(quickstart_text, write_workflow):
+    text = re.sub(r"^(\s+)source:", r"\1step_size: 1.0e-6\n\1source:", quickstart_text, count=1, flags=re.M)
+    assert "step_size: 1.0e-6" in text
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{_line(text, 'step_size')}", "simulator.options.step_size",
+                          "steps per simulation (at most 100,000,000)")
