@@ -16,6 +16,7 @@ total index below ``SOBOL_TOTAL_MIN`` (Sobol') in every error is *non-influentia
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from dataclasses import dataclass
@@ -126,26 +127,23 @@ def run(
                     done[eid] = {"status": row.status, "errors": {c: getattr(row, _attr(ERROR + c, logged)) for c in setup.columns}}
     params = prepared.space.as_dicts(values)
     jobs = [(i, p) for i, p in enumerate(params) if i not in done]
-    own = executor is None
-    ex = executor or DaskExecutor(workers=workers or prepared.wf.model.execution.workers, scheduler=prepared.wf.model.execution.scheduler)
     by_id = dict(jobs)
-    try:
-        if own:
-            ex.__enter__()
-        if jobs:
-            handle = ex.share(setup)
+    execution = prepared.wf.model.execution
+    context = (
+        contextlib.nullcontext(executor) if executor is not None
+        else DaskExecutor(workers=workers or execution.workers, scheduler=execution.scheduler)
+    )
 
-            def on_done(rows):
-                if store is not None:
-                    store.append(rows, 0, by_id)
+    def on_done(rows):
+        if store is not None:
+            store.append(rows, 0, by_id)
 
-            for row in ex.run(setup, handle, jobs, on_done=on_done):
+    if jobs:  # a fully logged analysis starts no cluster
+        with context as ex:
+            for row in ex.run(setup, ex.share(setup), jobs, on_done=on_done):
                 done[row["eval_id"]] = row
-            if store is not None:
-                store.flush()
-    finally:
-        if own:
-            ex.__exit__(None, None, None)
+        if store is not None:
+            store.flush()
     failed = sum(done[i]["status"] != STATUS_OK for i in range(len(values)))
     Y = {}
     for column in setup.columns:
