@@ -1,63 +1,251 @@
-"""Schedule evaluations on dask: a LocalCluster of process workers, or an existing scheduler."""
+"""Schedule evaluations on dask: a LocalCluster of process workers, or an existing scheduler.
+
+Fault model (docs/architecture.md, enforced by tests/test_faults.py): a simulation that raises,
+returns NaN, hangs inside a step or kills its process, and a worker process or machine that
+disappears, each cost at most the one evaluation that caused it.
+
+- The evaluation setup is installed on every worker by a dask worker plugin, also on workers that
+  join or restart later; no task depends on data held by one worker, so losing any worker (or all
+  of them, while new ones come) loses nothing.
+- A task whose worker died, or that hung past every deadline (its worker is restarted), is not
+  failed: its evaluations are run again one by one, each in a forked child process of a worker
+  (:func:`evaluate_isolated`). The child that dies names the culprit (``crashed: worker process
+  died (SIGSEGV)``), the one that overruns its time is ``timeout``, the others succeed. Each
+  evaluation is isolated once; a crashing parameter set is never retried endlessly.
+- With no worker at all for :data:`NO_WORKER_LIMIT_S`, the run stops with a message; everything
+  finished is logged already and ``--resume`` carries on.
+"""
 
 from __future__ import annotations
 
+import ipaddress
 import logging
 import math
 import os
+import pickle
+import select
+import signal
 import time
 from concurrent.futures import CancelledError
 from typing import Callable
+from urllib.parse import urlparse
+
+from distributed.diagnostics.plugin import WorkerPlugin
 
 from .errors import SimgapError
-from .evaluation import STATUS_FAILED, EvaluationSetup, evaluate_batch, objective_vector
+from .evaluation import STATUS_FAILED, EvaluationSetup, evaluate, objective_vector
 
 log = logging.getLogger(__name__)
 
-# A task that has not answered after (evaluations × timeout × this factor + grace) is given up.
+# A task that has been executing longer than (evaluations × timeout × factor + grace) is stuck.
 HARD_TIMEOUT_FACTOR = 1.5
 HARD_TIMEOUT_GRACE_S = 30.0
-POLL_S = 1.0
+POLL_S = 0.5
 TASK_SECONDS = 0.25
+NO_WORKER_LIMIT_S = 120.0
+"""How long a run waits with no worker at all before it stops (local workers restart in seconds)."""
+RESTART_TIMEOUT_S = 120.0
+ISOLATION_TRIES = 3
+"""An isolated evaluation whose own task is lost (its worker killed from outside) is tried again
+this often before it is logged as lost."""
+ISOLATION_TIME_S = 60.0
+"""Time an isolated evaluation may take when the workflow sets no timeout."""
+
+
+# -- on the workers ---------------------------------------------------------------------------
+
+_SETUPS: dict[str, EvaluationSetup] = {}
+
+
+class SetupPlugin(WorkerPlugin):
+    """Installs an evaluation setup on every worker, including workers that join or restart later
+    (dask keeps registered worker plugins and hands them to each new worker)."""
+
+    def __init__(self, setup: EvaluationSetup):
+        self.token = setup.token
+        self.setup_object = setup
+
+    def setup(self, worker=None):
+        _SETUPS[self.token] = self.setup_object
+
+    def teardown(self, worker=None):
+        _SETUPS.pop(self.token, None)
+
+
+def _installed(token: str) -> EvaluationSetup:
+    try:
+        return _SETUPS[token]
+    except KeyError:
+        raise RuntimeError(f"evaluation setup {token} is not installed on this worker") from None
+
+
+def evaluate_shared(token: str, jobs: list[tuple[int, dict[str, float]]], keep_series: bool = False) -> list[dict]:
+    """The dask task: several evaluations in one task keeps scheduling overhead per evaluation low."""
+    setup = _installed(token)
+    return [evaluate(setup, eval_id, params, keep_series) for eval_id, params in jobs]
+
+
+def evaluate_isolated(token: str, eval_id: int, params: dict[str, float], keep_series: bool, limit_s: float) -> dict:
+    """The dask task that runs one evaluation in a forked child (:func:`evaluate_forked`)."""
+    return evaluate_forked(_installed(token), eval_id, params, keep_series, limit_s)
+
+
+def evaluate_forked(setup: EvaluationSetup, eval_id: int, params: dict[str, float], keep_series: bool, limit_s: float) -> dict:
+    """One evaluation in a forked child process: a crash kills the child, not this process, and is
+    reported with its signal; a child that overruns ``limit_s`` is killed and reported as a timeout."""
+    if not hasattr(os, "fork"):  # no fork (Windows): run it here and let a crash take the worker
+        return evaluate(setup, eval_id, params, keep_series)
+    read_fd, write_fd = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: evaluate, send the row, leave without running any cleanup
+        code = 0
+        try:
+            os.close(read_fd)
+            import faulthandler
+
+            faulthandler.disable()  # the parent reports the crash; a stack dump here is noise
+            payload = pickle.dumps(evaluate(setup, eval_id, params, keep_series), protocol=pickle.HIGHEST_PROTOCOL)
+            view = memoryview(payload)
+            while view:
+                view = view[os.write(write_fd, view):]
+        except BaseException:  # noqa: BLE001 — the parent reports a child that sent nothing
+            code = 1
+        finally:
+            os._exit(code)
+    os.close(write_fd)
+    parts, timed_out = [], False
+    deadline = time.monotonic() + limit_s
+    try:
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                timed_out = True
+                os.kill(pid, signal.SIGKILL)
+                break
+            ready, _, _ = select.select([read_fd], [], [], min(remaining, 1.0))
+            if ready:
+                chunk = os.read(read_fd, 1 << 20)
+                if not chunk:
+                    break
+                parts.append(chunk)
+    finally:
+        os.close(read_fd)
+        _, status = os.waitpid(pid, 0)
+    if timed_out:
+        return _failed_row(setup, eval_id, f"timeout: the model did not return within {limit_s:.0f} s (stuck inside a step)", params)
+    if os.WIFSIGNALED(status):
+        return _failed_row(setup, eval_id, f"crashed: worker process died ({_signal_name(os.WTERMSIG(status))})", params)
+    if not parts:
+        return _failed_row(setup, eval_id, f"crashed: worker process exited with code {os.WEXITSTATUS(status)}", params)
+    return pickle.loads(b"".join(parts))
+
+
+def _signal_name(number: int) -> str:
+    try:
+        name = signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
+    return f"{name}, killed from outside or out of memory" if number == signal.SIGKILL else name
+
+
+def _failed_row(setup: EvaluationSetup, eval_id: int, message: str, params: dict | None = None) -> dict:
+    if params is not None and message.startswith("crashed"):
+        shown = ", ".join(f"{k}={v:.6g}" for k, v in params.items())
+        message = f"{message} at {shown}"
+    return {
+        "eval_id": eval_id,
+        "status": STATUS_FAILED,
+        "error": message,
+        "errors": None,
+        "objectives": objective_vector(setup, None),
+        "sim_time_s": math.nan,
+        "metric_time_s": math.nan,
+        "wall_time_s": math.nan,
+        "worker": None,
+    }
+
+
+def _executing_keys(dask_worker) -> list:
+    """Keys of the tasks a worker is executing (runs on the worker via Client.run)."""
+    return [ts.key for ts in dask_worker.state.executing]
+
+
+# -- on the client ----------------------------------------------------------------------------
+
+
+def is_loopback(address: str) -> bool:
+    host = urlparse(address if "://" in address else f"tcp://{address}").hostname or ""
+    if host in ("localhost", ""):
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
 
 
 class DaskExecutor:
-    """Runs batches of evaluations on dask workers.
+    """Runs batches of evaluations on dask workers (see the module docstring for the fault model).
 
-    The evaluation setup (model bytes, measured data, metrics) is scattered to every worker once
-    with :meth:`share`; each task then carries only parameter values.
+    The evaluation setup (model bytes, measured data, metrics) is installed on every worker with
+    :meth:`share`; each task then carries only parameter values and the setup's token.
     """
 
-    def __init__(self, *, workers: int | None = None, scheduler: str | None = None, batch_size: int | None = None):
+    def __init__(
+        self,
+        *,
+        workers: int | None = None,
+        scheduler: str | None = None,
+        batch_size: int | None = None,
+        security=None,
+        connect_timeout_s: float = 10.0,
+    ):
         self.requested_workers = workers
         self.scheduler = scheduler
         self.batch_size = batch_size
+        self.security = security
+        self.connect_timeout_s = connect_timeout_s
         self.client = None
         self.cluster = None
-        self._shared: dict[str, object] = {}  # setup token -> scattered future
-        self._executing_since: dict[object, float] = {}  # task key -> first seen executing
+        self._shared: set[str] = set()
+        self._executing_since: dict[object, float] = {}
         self._seconds_per_evaluation: float | None = None
+        self.restarts = 0
+        self.isolated = 0
 
     # -- lifecycle ----------------------------------------------------------------------------
 
     def __enter__(self) -> "DaskExecutor":
+        import dask
         from distributed import Client, LocalCluster
 
         if self.scheduler:
+            if self.scheduler.startswith("tcp://") and not is_loopback(self.scheduler):
+                log.warning(
+                    "%s is a plain tcp:// address beyond this machine: anyone who reaches it can run code on the "
+                    "workers; use tls:// with certificates (execution: tls)", self.scheduler
+                )
             try:
-                self.client = Client(self.scheduler, timeout="10s")
+                self.client = Client(self.scheduler, timeout=f"{self.connect_timeout_s}s", security=self.security)
             except (OSError, TimeoutError) as exc:
-                raise SimgapError(f"cannot reach the dask scheduler at {self.scheduler}: {exc}") from None
-            self.client.wait_for_workers(1, timeout=30)
+                raise SimgapError(f"cannot reach the dask scheduler at {self.scheduler}: {_one_line(exc)}") from None
+            try:
+                self.client.wait_for_workers(1, timeout=30)
+            except TimeoutError:
+                self.client.close()
+                raise SimgapError(f"the dask scheduler at {self.scheduler} has no worker (waited 30 s)") from None
         else:
             n = self.requested_workers or os.cpu_count() or 1
-            self.cluster = LocalCluster(
-                n_workers=n,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=":0",  # any free port: several runs may share a machine
-                silence_logs=logging.ERROR,
-            )
+            # A task whose worker dies is not retried on the next worker by dask (each retry would
+            # kill another worker): it comes back to us at once and is isolated (see run).
+            with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+                self.cluster = LocalCluster(
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    host="127.0.0.1",  # never listen beyond this machine
+                    dashboard_address="127.0.0.1:0",  # any free port: several runs may share a machine
+                    silence_logs=logging.CRITICAL,
+                )
             self.client = Client(self.cluster)
         return self
 
@@ -69,7 +257,10 @@ class DaskExecutor:
 
     @property
     def n_workers(self) -> int:
-        return max(1, len(self.client.scheduler_info(n_workers=-1)["workers"]))
+        return max(1, self._live_workers())
+
+    def _live_workers(self) -> int:
+        return len(self.client.scheduler_info(n_workers=-1)["workers"])
 
     @property
     def description(self) -> str:
@@ -78,11 +269,12 @@ class DaskExecutor:
 
     # -- work ---------------------------------------------------------------------------------
 
-    def share(self, setup: EvaluationSetup):
-        """Send the setup to every worker once; returns the handle tasks refer to."""
-        handle = self.client.scatter(setup, broadcast=True, hash=False)
-        self._shared[setup.token] = handle
-        return handle
+    def share(self, setup: EvaluationSetup) -> str:
+        """Install the setup on every worker, present and future; returns the handle tasks use."""
+        if setup.token not in self._shared:
+            self.client.register_plugin(SetupPlugin(setup), name=f"simgap-setup-{setup.token}")
+            self._shared.add(setup.token)
+        return setup.token
 
     def _chunks(self, jobs: list) -> list[list]:
         """Tasks of about TASK_SECONDS of work: enough evaluations per task that scheduling
@@ -106,6 +298,9 @@ class DaskExecutor:
             previous = self._seconds_per_evaluation
             self._seconds_per_evaluation = latest if previous is None else 0.7 * previous + 0.3 * latest
 
+    def _isolation_limit(self, setup: EvaluationSetup) -> float:
+        return (setup.timeout_s or ISOLATION_TIME_S) * HARD_TIMEOUT_FACTOR + 5.0
+
     def run(
         self,
         setup: EvaluationSetup,
@@ -114,103 +309,132 @@ class DaskExecutor:
         *,
         keep_series: bool = False,
         on_done: Callable[[list[dict]], None] | None = None,
+        deadline: float | None = None,
     ) -> list[dict]:
         """Evaluate ``jobs`` (eval_id, parameters); rows come back in job order.
 
-        ``handle`` comes from :meth:`share`; after a stuck worker was restarted the setup is
-        shared again and the new handle used. ``on_done`` is called with each task's rows as
-        soon as the task returns.
+        ``on_done`` is called with each task's rows as soon as they are known. With a
+        ``deadline`` (time.monotonic()), work still pending then is cancelled and only the
+        finished jobs' rows are returned (fewer than ``jobs``: the caller stops).
         """
         from distributed import wait
 
-        handle = self._shared.get(setup.token, handle)
-        chunks = self._chunks(jobs)
-        futures = {}
-        for chunk in chunks:
-            fut = self.client.submit(evaluate_batch, handle, chunk, keep_series, pure=False)
-            futures[fut] = (chunk, time.monotonic())
+        token = self.share(setup) if handle is None else handle
+        params_of = dict(jobs)
+        submitted: dict = {}  # future -> (kind, payload, submitted at, tries)
+
+        def submit_chunk(chunk):
+            fut = self.client.submit(evaluate_shared, token, chunk, keep_series, pure=False)
+            submitted[fut] = ("chunk", chunk, time.monotonic(), 0)
+
+        def submit_isolated(eval_id, tries=0):
+            limit = self._isolation_limit(setup)
+            fut = self.client.submit(evaluate_isolated, token, eval_id, params_of[eval_id], keep_series, limit, pure=False)
+            submitted[fut] = ("one", [(eval_id, params_of[eval_id])], time.monotonic(), tries)
+            self.isolated += 1
+
+        for chunk in self._chunks(jobs):
+            submit_chunk(chunk)
         rows: dict[int, dict] = {}
-        pending = set(futures)
+        pending = set(submitted)
+        workerless_since = None
+
+        def deliver(got):
+            for row in got:
+                rows[row["eval_id"]] = row
+            self._learn_timing(got)
+            if on_done is not None:
+                on_done(got)
+
         while pending:
+            if deadline is not None and time.monotonic() >= deadline:
+                for fut in pending:
+                    fut.cancel()
+                break
             try:
                 done, pending = wait(pending, timeout=POLL_S, return_when="FIRST_COMPLETED")
-            except TimeoutError:  # nothing finished within the poll interval; check deadlines
+            except TimeoutError:
                 done = set()
-            except CancelledError:  # lost with a restarted worker: their result() says so below
+            except CancelledError:
                 done = {f for f in pending if f.done() or f.cancelled()}
                 pending = pending - done
             for fut in done:
-                chunk, _ = futures[fut]
+                kind, chunk, _, tries = submitted.pop(fut)
                 try:
                     got = fut.result()
-                except Exception as exc:  # a worker that died takes its task with it
-                    got = [self._failed(setup, eval_id, f"worker lost: {type(exc).__name__}: {exc}") for eval_id, _ in chunk]
-                for row in got:
-                    rows[row["eval_id"]] = row
-                self._learn_timing(got)
-                if on_done is not None:
-                    on_done(got)
-            if setup.timeout_s:
-                pending = self._give_up_overdue(setup, futures, pending, rows, on_done)
-        return [rows[eval_id] for eval_id, _ in jobs]
+                except Exception as exc:  # noqa: BLE001 — the task's worker died or the task was lost
+                    if kind == "chunk":  # find the culprit: each evaluation again, alone
+                        log.info("a task of %d evaluations was lost (%s); running them one by one", len(chunk), _one_line(exc))
+                        for eval_id, _ in chunk:
+                            submit_isolated(eval_id)
+                    elif tries + 1 < ISOLATION_TRIES:
+                        submit_isolated(chunk[0][0], tries + 1)
+                    else:
+                        got = [_failed_row(setup, chunk[0][0], f"lost: its task failed {ISOLATION_TRIES} times without an answer ({_one_line(exc)})")]
+                        deliver(got)
+                    pending = set(submitted)
+                    continue
+                deliver(got if kind == "chunk" else [got])
+            pending = self._restart_stuck(setup, submitted, submit_isolated) if setup.timeout_s else pending
+            pending = set(submitted)
+            if pending:
+                if self._live_workers() == 0:
+                    workerless_since = workerless_since or time.monotonic()
+                    if time.monotonic() - workerless_since > NO_WORKER_LIMIT_S:
+                        for fut in pending:
+                            fut.cancel()
+                        raise SimgapError(
+                            f"no dask worker for {NO_WORKER_LIMIT_S:.0f} s; {len(rows)} of {len(jobs)} evaluations of this "
+                            "batch are logged; start workers and continue with 'simgap run --resume DIR'"
+                        )
+                else:
+                    workerless_since = None
+        return [rows[eval_id] for eval_id, _ in jobs if eval_id in rows]
 
-    def _give_up_overdue(self, setup, futures, pending, rows, on_done):
-        """Fail tasks stuck inside a model past every deadline, and restart their workers.
+    def _restart_stuck(self, setup, submitted, submit_isolated):
+        """Tasks stuck inside a model past every deadline: restart their workers (the only way to
+        stop native code) and isolate their evaluations, so only the one that hangs is a timeout.
 
         A simulator checks its deadline between steps; a model that hangs inside one step never
-        does. A task counts as stuck once it has been *executing* (not queued) for longer than
-        its evaluations' timeouts allow; its worker is restarted, which is the only way to stop
-        native code. Tasks queued behind it are rescheduled by dask.
-        """
+        does. A task counts as stuck once it has been *executing* (not queued) longer than its
+        evaluations' timeouts allow."""
         now = time.monotonic()
 
         def limit(chunk):
             return len(chunk) * setup.timeout_s * HARD_TIMEOUT_FACTOR + HARD_TIMEOUT_GRACE_S
 
-        suspects = [f for f in pending if now - futures[f][1] > limit(futures[f][0])]
+        suspects = [f for f, (kind, chunk, since, _) in submitted.items() if kind == "chunk" and now - since > limit(chunk)]
         if not suspects:
-            return pending
+            return set(submitted)
         executing = self.client.run(_executing_keys)
         where = {key: address for address, keys in executing.items() for key in keys}
-        still, stuck_workers = set(pending), set()
+        stuck_workers = set()
         for fut in suspects:
             address = where.get(fut.key)
             if address is None:  # queued behind other work: waiting is not hanging
                 continue
-            chunk, _ = futures[fut]
+            kind, chunk, _, _ = submitted[fut]
             since = self._executing_since.setdefault(fut.key, now)
             if now - since <= limit(chunk):
                 continue
             fut.cancel()
-            still.discard(fut)
+            del submitted[fut]
             stuck_workers.add(address)
-            message = f"timeout: the model did not return within {limit(chunk):.0f} s (stuck inside a step); worker restarted"
-            got = [self._failed(setup, eval_id, message) for eval_id, _ in chunk]
-            for row in got:
-                rows[row["eval_id"]] = row
-            if on_done is not None:
-                on_done(got)
+            for eval_id, _ in chunk:
+                submit_isolated(eval_id)
         if stuck_workers:
             log.warning("restarting %d dask worker(s) stuck past the simulation timeout", len(stuck_workers))
-            self.client.restart_workers(list(stuck_workers), timeout=10, raise_for_error=False)
-            self.share(setup)  # the restarted workers lost their copy; later batches use this one
-        return still
+            self.restarts += len(stuck_workers)
+            # Restarted workers come back with the setup (worker plugin); waiting longer than dask's
+            # default matters under load, and a worker that never returns is handled in run().
+            self.client.restart_workers(list(stuck_workers), timeout=RESTART_TIMEOUT_S, raise_for_error=False)
+        return set(submitted)
 
     @staticmethod
     def _failed(setup: EvaluationSetup, eval_id: int, message: str) -> dict:
-        return {
-            "eval_id": eval_id,
-            "status": STATUS_FAILED,
-            "error": message,
-            "errors": None,
-            "objectives": objective_vector(setup, None),
-            "sim_time_s": math.nan,
-            "metric_time_s": math.nan,
-            "wall_time_s": math.nan,
-            "worker": None,
-        }
+        return _failed_row(setup, eval_id, message)
 
 
-def _executing_keys(dask_worker) -> list:
-    """Keys of the tasks a worker is executing (runs on the worker via Client.run)."""
-    return [ts.key for ts in dask_worker.state.executing]
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return f"{type(exc).__name__}: {text}" if text != type(exc).__name__ else text
