@@ -22,6 +22,7 @@ from .config import load_workflow, parse_duration
 from .errors import SimgapError
 from .evaluation import STATUS_OK
 from .executor import DaskExecutor
+from .failures import summarise_failures
 from .front import knee_index, non_dominated
 from .results import (
     ERROR,
@@ -70,6 +71,11 @@ class _Budget:
         if self.wall_s is not None and time.monotonic() - self.t0 >= self.wall_s:
             return f"wall-time budget ({self.wall_s:g} s) used"
         return None
+
+    @property
+    def deadline(self) -> float | None:
+        """When the wall-time budget runs out (time.monotonic()); work still pending then is cancelled."""
+        return self.t0 + self.wall_s if self.wall_s is not None else None
 
     def total(self, batch: int) -> int | None:
         totals = [t for t in (self.evaluations, self.generations and self.generations * batch) if t]
@@ -288,7 +294,11 @@ def _calibrate(
                 store.append(rows, _gen, _by_id)
                 progress.update(generation=_gen, done=len(store), total=_total, best=store.best, failed=store.failed)
 
-            fresh = executor.run(setup, handle, jobs, on_done=on_done) if jobs else []
+            fresh = executor.run(setup, handle, jobs, on_done=on_done, deadline=budget.deadline) if jobs else []
+            if len(fresh) < len(jobs):  # the wall-time budget ran out inside this generation
+                stop_reason = budget.exhausted(next_id, generation) or "wall-time budget used"
+                store.flush()
+                break
             if not jobs:
                 progress.update(generation=generation, done=next_id, total=budget.total(len(X)), best=store.best, failed=store.failed)
             answered = {**logged, **{r["eval_id"]: r for r in fresh}}
@@ -426,6 +436,7 @@ def _summary(prepared, store, frame, pareto, featured, run_id, started, t_start,
         "workers": n_workers,
         "evaluations": n,
         "failed": int((frame["status"] != STATUS_OK).sum()),
+        "failures": summarise_failures(frame.loc[frame["status"] != STATUS_OK, "error"].tolist()),
         "front_size": int(len(pareto)),
         "parameters": [p.model_dump(exclude_none=True) for p in m.tuners],
         "objectives": store.objective_columns,

@@ -10,9 +10,16 @@ import click
 from .errors import SimgapError
 
 
-def _fail(message: str) -> None:
+# Exit codes (README): 0 done; 2 bad input or usage (click's own code for usage errors too);
+# 3 the run finished but nothing usable came out (no successful evaluation); 130 interrupted.
+EXIT_BAD_INPUT = 2
+EXIT_NO_RESULT = 3
+EXIT_INTERRUPTED = 130
+
+
+def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
     click.echo(f"error: {message}", err=True)
-    sys.exit(2)
+    sys.exit(code)
 
 
 class _Group(click.Group):
@@ -112,8 +119,8 @@ def run(workflow, workers, scheduler, out, resume_dir):
             run_dir = calibrate(prepare(wf), workers=workers, scheduler=scheduler, output=out, progress=progress)
     except KeyboardInterrupt:
         progress.stop()
-        _fail("interrupted; evaluations finished so far are kept in the run folder's evaluations.parquet; "
-              "continue with 'simgap run --resume DIR'")
+        _fail("interrupted; evaluations finished so far are kept in the run folder's log; "
+              "continue with 'simgap run --resume DIR'", EXIT_INTERRUPTED)
     _report_run(run_dir)
 
 
@@ -144,13 +151,24 @@ def _report_run(run_dir):
                 click.echo(f"  {kind}: " + ", ".join(f"{k} {v:.4g}" for k, v in knee[kind].items()))
     for note in s.get("notes") or []:  # result warnings (docs/trust.md)
         click.echo(f"note: {note}")
+    failures = s.get("failures") or {}
+    if s["failed"]:
+        kinds = ", ".join(f"{n} {kind}" for kind, n in failures.get("by_kind", {}).items())
+        click.echo(f"failed evaluations: {kinds}")
+        for item in failures.get("messages", []):
+            click.echo(f"  {item['count']}x {item['message']}")
     click.echo(f"results: {run_dir}")
+    if s["evaluations"] and s["failed"] == s["evaluations"]:
+        _fail(f"no evaluation succeeded ({s['evaluations']} failed); the first error: "
+              f"{(failures.get('messages') or [{'message': '?'}])[0]['message']}", EXIT_NO_RESULT)
 
 
 @main.command()
 @click.argument("workflow", type=click.Path(path_type=Path))
-def check(workflow):
-    """Validate WORKFLOW (schema, plugins, data, model variables) without running a simulation."""
+@click.option("--simulate/--no-simulate", default=True, show_default=True,
+              help="run one trial simulation at the tuners' start values on the first training case")
+def check(workflow, simulate):
+    """Validate WORKFLOW (schema, plugins, data, model variables) and run one trial simulation."""
     from .config import load_workflow
     from .grid import check_grid
     from .setup import prepare
@@ -168,6 +186,10 @@ def check(workflow):
     click.echo(f"  objectives: {', '.join(p.problem.objective_names)}")
     for note in p.notes:
         click.echo(f"  note: {note}")
+    if simulate:
+        from .trial import trial_simulation
+
+        click.echo(f"  trial simulation: {trial_simulation(p)}")
 
 
 @main.command()

@@ -13,7 +13,7 @@ import pytest
 from click.testing import CliRunner
 
 import simgap
-from simgap.cli import main
+from simgap.cli import EXIT_NO_RESULT, main
 from tests.conftest import set_budget
 
 
@@ -39,7 +39,7 @@ def test_simulation_timeout_is_a_failed_evaluation(quickstart_text, write_workfl
     text = set_budget(quickstart_text, 8, population=4).replace("timeout: 30s", "timeout: 0.0001s")
     path = write_workflow(text)
     result = CliRunner().invoke(main, ["run", str(path), "--workers", "1"])
-    assert result.exit_code == 0, result.output
+    assert result.exit_code == EXIT_NO_RESULT, result.output  # nothing usable came out
     ev = simgap.load_run(path.parent / "runs").evaluations
     assert (ev["status"] == "failed").all()
     assert ev["error"].str.startswith("timeout").all()
@@ -123,9 +123,8 @@ def test_model_stuck_inside_a_step_is_failed_and_its_worker_restarted(quickstart
     path = write_workflow(text)
     started = time.monotonic()
     result = CliRunner().invoke(main, ["run", str(path), "--workers", "2"])
-    assert result.exit_code == 0, result.output
+    assert result.exit_code == EXIT_NO_RESULT, result.output
     ev = simgap.load_run(path.parent / "runs").evaluations
     assert len(ev) == 4 and (ev["status"] == "failed").all()
-    assert ev["error"].str.contains("stuck inside a step|worker lost").all(), ev["error"].tolist()
-    assert ev["error"].str.contains("stuck inside a step").any()
+    assert ev["error"].str.startswith("timeout").all(), ev["error"].tolist()
     assert time.monotonic() - started < 120
