@@ -272,7 +272,16 @@ class DaskExecutor:
     def share(self, setup: EvaluationSetup) -> str:
         """Install the setup on every worker, present and future; returns the handle tasks use."""
         if setup.token not in self._shared:
-            self.client.register_plugin(SetupPlugin(setup), name=f"simgap-setup-{setup.token}")
+            plugin = SetupPlugin(setup)
+            for attempt in range(3):
+                try:
+                    self.client.register_plugin(plugin, name=f"simgap-setup-{setup.token}")
+                    break
+                except Exception as exc:  # noqa: BLE001 — a worker died during the broadcast
+                    # The scheduler keeps the plugin and installs it on every worker that (re)joins;
+                    # registering again reaches the workers that the failed broadcast missed.
+                    log.info("installing the setup on the workers: %s; trying again", _one_line(exc))
+                    time.sleep(1.0)
             self._shared.add(setup.token)
         return setup.token
 
