@@ -21,7 +21,7 @@ import pandas as pd
 from .config import load_workflow, parse_duration
 from .errors import SimgapError
 from .evaluation import STATUS_OK
-from .executor import DaskExecutor
+from .executor import DaskExecutor, probe_scheduler
 from .failures import summarise_failures
 from .front import knee_index, non_dominated
 from .results import (
@@ -210,6 +210,11 @@ def _calibrate(
     setup = prepared.training
     replay = None
     log_notes: list[str] = []
+    own_executor = executor is None
+    if own_executor:
+        executor = DaskExecutor.for_workflow(prepared.wf, workers=workers, scheduler=scheduler)
+        if executor.scheduler:  # an unreachable scheduler stops the run before it leaves a folder
+            probe_scheduler(executor.scheduler, executor.security)
     if resume_dir is not None:
         run_dir = Path(resume_dir)
         info = read_run_info(run_dir)
@@ -246,14 +251,6 @@ def _calibrate(
     t_start = time.perf_counter()
     stop_reason = "optimiser converged"
 
-    execution = m.execution
-    own_executor = executor is None
-    if own_executor:
-        executor = DaskExecutor(
-            workers=workers or execution.workers,
-            scheduler=scheduler or execution.scheduler,
-            batch_size=execution.batch_size,
-        )
     if locks[-1].note:
         log_notes.append(f"{run_dir}: {locks[-1].note}")
     for note in log_notes:

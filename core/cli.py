@@ -186,6 +186,12 @@ def check(workflow, simulate):
     click.echo(f"  objectives: {', '.join(p.problem.objective_names)}")
     for note in p.notes:
         click.echo(f"  note: {note}")
+    if m.execution.scheduler or m.execution.tls:
+        from .executor import probe_scheduler, tls_security
+
+        security = tls_security(p.wf)  # every certificate file must exist
+        if m.execution.scheduler:
+            click.echo(f"  scheduler: {m.execution.scheduler} with {probe_scheduler(m.execution.scheduler, security)} workers")
     if simulate:
         from .trial import trial_simulation
 

@@ -254,6 +254,17 @@ class OptimiserConfig(Section):
     budget: Budget
 
 
+class TLSConfig(Section):
+    """Certificates for a tls:// scheduler (dask's Security): paths relative to the workflow."""
+
+    ca: str
+    """The certificate authority that signed the scheduler's and workers' certificates."""
+    cert: str
+    """This client's certificate."""
+    key: str
+    """This client's private key."""
+
+
 class ExecutionConfig(Section):
     workers: int | None = Field(None, ge=1)
     """Local process workers (default: one per core)."""
@@ -263,6 +274,9 @@ class ExecutionConfig(Section):
     """Longest a single simulation may take before it is recorded as failed."""
     batch_size: int | None = Field(None, ge=1)
     """Evaluations per dask task (default: a generation split into 4 tasks per worker)."""
+    tls: TLSConfig | None = None
+    """Certificates for a tls:// scheduler address; a plain tcp:// address beyond this machine
+    lets anyone who reaches the scheduler run code on its workers."""
 
 
 

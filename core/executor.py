@@ -173,6 +173,34 @@ def _executing_keys(dask_worker) -> list:
 # -- on the client ----------------------------------------------------------------------------
 
 
+def tls_security(wf):
+    """dask Security from the workflow's ``execution.tls`` (None without it); each file must exist."""
+    tls = wf.model.execution.tls
+    if tls is None:
+        return None
+    from distributed.security import Security
+
+    paths = {}
+    for key in ("ca", "cert", "key"):
+        path = wf.resolve(getattr(tls, key))
+        if not path.is_file():
+            raise wf.error(("execution", "tls", key), f"no such file: {path}")
+        paths[key] = str(path)
+    return Security(tls_ca_file=paths["ca"], tls_client_cert=paths["cert"], tls_client_key=paths["key"], require_encryption=True)
+
+
+def probe_scheduler(address: str, security=None, timeout_s: float = 5.0) -> int:
+    """Connect to a scheduler briefly; returns its number of workers, or raises SimgapError in one
+    line (found before a run folder is made, and by `simgap check`)."""
+    from distributed import Client
+
+    try:
+        with Client(address, timeout=f"{timeout_s}s", security=security) as client:
+            return len(client.scheduler_info(n_workers=-1)["workers"])
+    except (OSError, TimeoutError) as exc:
+        raise SimgapError(f"cannot reach the dask scheduler at {address}: {_one_line(exc)}") from None
+
+
 def is_loopback(address: str) -> bool:
     host = urlparse(address if "://" in address else f"tcp://{address}").hostname or ""
     if host in ("localhost", ""):
@@ -211,6 +239,17 @@ class DaskExecutor:
         self._seconds_per_evaluation: float | None = None
         self.restarts = 0
         self.isolated = 0
+
+    @classmethod
+    def for_workflow(cls, wf, *, workers: int | None = None, scheduler: str | None = None) -> "DaskExecutor":
+        """The executor a workflow's ``execution:`` section asks for (CLI options win)."""
+        execution = wf.model.execution
+        return cls(
+            workers=workers or execution.workers,
+            scheduler=scheduler or execution.scheduler,
+            batch_size=execution.batch_size,
+            security=tls_security(wf),
+        )
 
     # -- lifecycle ----------------------------------------------------------------------------
 

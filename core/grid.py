@@ -222,12 +222,7 @@ def _executor(wf: LoadedWorkflow, workers, scheduler):
     """One cluster for every cell and the scoring: workers keep their models and compiled code."""
     from .executor import DaskExecutor
 
-    execution = wf.model.execution
-    return DaskExecutor(
-        workers=workers or execution.workers,
-        scheduler=scheduler or execution.scheduler,
-        batch_size=execution.batch_size,
-    )
+    return DaskExecutor.for_workflow(wf, workers=workers, scheduler=scheduler)
 
 
 def resume_grid(grid_dir: str | Path, *, workers=None, scheduler=None, progress=None) -> Path:

@@ -128,10 +128,9 @@ def run(
     params = prepared.space.as_dicts(values)
     jobs = [(i, p) for i, p in enumerate(params) if i not in done]
     by_id = dict(jobs)
-    execution = prepared.wf.model.execution
     context = (
         contextlib.nullcontext(executor) if executor is not None
-        else DaskExecutor(workers=workers or execution.workers, scheduler=execution.scheduler)
+        else DaskExecutor.for_workflow(prepared.wf, workers=workers)
     )
 
     def on_done(rows):
