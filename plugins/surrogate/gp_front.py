@@ -1,0 +1,175 @@
+"""Multi-objective optimisation on Gaussian-process surrogates of the objectives.
+
+Each batch: fit one scikit-learn GaussianProcessRegressor per objective to every successful
+evaluation so far, let NSGA-II (pymoo) find the front of the surrogates' lower confidence bounds,
+then pick the batch from that front greedily by hypervolume improvement over the measured front
+(moocore), each pick added to the front at its predicted value so the batch spreads out.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+from pydantic import Field
+
+import simgap
+
+log = logging.getLogger(__name__)
+
+
+class GaussianProcessFrontOptimiserOptions(simgap.PluginOptions):
+    batch: int = Field(8, ge=1, description="points per batch; a multiple of the workers keeps them busy")
+    initial: int | None = Field(
+        None, ge=2, description="Latin hypercube points before the first fit (default: 2 x tuners + 2, at least one batch)"
+    )
+    exploration: float = Field(1.0, ge=0, description="kappa of the lower confidence bound mean - kappa * std the search minimises")
+    search_population: int = Field(60, ge=8, description="NSGA-II population on the surrogates")
+    search_generations: int = Field(40, ge=1, description="NSGA-II generations on the surrogates")
+    max_fit_points: int = Field(400, ge=10, description="largest training set per GP: the best points by front rank are kept")
+
+
+def _rank(F: np.ndarray) -> np.ndarray:
+    """Non-dominated sorting rank (0 = front) of each row."""
+    from pymoo.util.nds.non_dominated_sorting import NonDominatedSorting
+
+    rank = np.empty(len(F), dtype=int)
+    for i, front in enumerate(NonDominatedSorting().do(F)):
+        rank[front] = i
+    return rank
+
+
+class GaussianProcessFrontOptimiser(simgap.Optimiser):
+    """Gaussian-process surrogates + NSGA-II on their confidence bounds + hypervolume-greedy batches.
+
+    Pick it when one simulation costs seconds or more and the budget is a few hundred
+    simulations: it spends up to about a second of CPU per evaluation on its own fits, which
+    a sub-second model does not repay (use nsga2 there). Failed evaluations are kept out of the
+    fit; their points are not asked again. Deterministic for a seed, so resume replays it.
+    """
+
+    name = "gp_front"
+    Options = GaussianProcessFrontOptimiserOptions
+
+    def __init__(self, options, problem, *, seed, max_evaluations):
+        super().__init__(options, problem, seed=seed, max_evaluations=max_evaluations)
+        n = problem.n_var
+        self._initial = options.initial or max(2 * n + 2, options.batch)
+        self._X = np.empty((0, n))
+        self._F = np.empty((0, problem.n_obj))
+        self._ok = np.empty(0, dtype=bool)
+        self._asked = 0
+        self._batches = 0
+        self.last_ask_cpu_seconds = 0.0
+
+    # ---------------------------------------------------------------------------------------
+    def ask(self) -> np.ndarray:
+        started = time.process_time()
+        remaining = (self.max_evaluations - self._asked) if self.max_evaluations else None
+        if len(self._X) < self._initial:
+            X = self._initial_design()
+        else:
+            X = self._surrogate_batch()
+        if remaining is not None:
+            X = X[: max(remaining, 0)]
+        self._asked += len(X)
+        self._batches += 1
+        self.last_ask_cpu_seconds = time.process_time() - started
+        log.info("gp_front batch %d: %d points, %.2f s CPU (%.3f s per point) on %d evaluations",
+                 self._batches, len(X), self.last_ask_cpu_seconds, self.last_ask_cpu_seconds / max(len(X), 1), len(self._X))
+        return X
+
+    def tell(self, X, F, feasible) -> None:
+        feasible = np.asarray(feasible, dtype=bool) & np.isfinite(F).all(axis=1)
+        self._X = np.vstack([self._X, X])
+        self._F = np.vstack([self._F, np.where(np.isfinite(F), F, np.nan)])
+        self._ok = np.concatenate([self._ok, feasible])
+
+    @property
+    def done(self) -> bool:
+        return bool(self.max_evaluations) and self._asked >= self.max_evaluations
+
+    # ---------------------------------------------------------------------------------------
+    def _initial_design(self) -> np.ndarray:
+        from scipy.stats import qmc
+
+        size = self._initial
+        X = qmc.LatinHypercube(d=self.problem.n_var, seed=self.seed).random(size)
+        x0 = self.problem.x0
+        if x0 is not None and np.isfinite(x0).any():
+            X[0] = np.where(np.isfinite(x0), x0, X[0])
+        return X
+
+    def _fit(self, X, Y):
+        """One GP per objective on log-objectives (errors are positive and span decades)."""
+        from sklearn.gaussian_process import GaussianProcessRegressor
+        from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
+
+        n = X.shape[1]
+        models = []
+        for j in range(Y.shape[1]):
+            kernel = ConstantKernel(1.0, (1e-3, 1e3)) * Matern(np.full(n, 0.3), (1e-3, 1e2), nu=2.5) + WhiteKernel(1e-4, (1e-8, 1e-1))
+            gp = GaussianProcessRegressor(kernel, normalize_y=True, n_restarts_optimizer=0, random_state=self.seed + self._batches)
+            models.append(gp.fit(X, Y[:, j]))
+        return models
+
+    def _surrogate_batch(self) -> np.ndarray:
+        from moocore import hypervolume
+        from pymoo.core.problem import Problem
+        from pymoo.algorithms.moo.nsga2 import NSGA2
+        from pymoo.optimize import minimize
+
+        o = self.options
+        rng = np.random.default_rng([self.seed, self._batches])
+        ok = self._ok
+        if ok.sum() < 3:  # nothing to learn from yet: more of the space-filling design
+            return rng.random((o.batch, self.problem.n_var))
+        X, F = self._X[ok], self._F[ok]
+        Y = np.log(np.maximum(F, 1e-12))
+        if len(X) > o.max_fit_points:  # keep the best-ranked, the front first
+            keep = np.argsort(_rank(Y), kind="stable")[: o.max_fit_points]
+            X, Y = X[keep], Y[keep]
+        models = self._fit(X, Y)
+        kappa = o.exploration
+
+        class LowerBound(Problem):
+            def _evaluate(self, x, out, *args, **kwargs):
+                out["F"] = np.column_stack([(lambda m, s: m - kappa * s)(*gp.predict(x, return_std=True)) for gp in models])
+
+        n = self.problem.n_var
+        front = Y[_rank(Y) == 0]
+        start = np.vstack([self._X[self._ok][_rank(np.log(np.maximum(self._F[self._ok], 1e-12))) == 0], rng.random((o.search_population, n))])[: o.search_population]
+        result = minimize(
+            LowerBound(n_var=n, n_obj=Y.shape[1], xl=0.0, xu=1.0),
+            NSGA2(pop_size=o.search_population, sampling=start, eliminate_duplicates=True),
+            ("n_gen", o.search_generations), seed=int(rng.integers(2**31)), verbose=False,
+        )
+        candidates = np.clip(np.atleast_2d(result.X), 0.0, 1.0)
+        predicted = np.column_stack([gp.predict(candidates) for gp in models])
+        # hypervolume in objectives scaled by the measured spread; reference just beyond the worst
+        low, high = Y.min(axis=0), Y.max(axis=0)
+        scale = np.where(high > low, high - low, 1.0)
+        reference = np.full(Y.shape[1], 1.1)
+        current = (front - low) / scale
+        chosen = []
+        tried = self._X
+        for _ in range(min(o.batch, len(candidates))):
+            base = hypervolume(current, ref=reference)
+            gains = np.array([
+                -np.inf if i in chosen or np.min(np.abs(tried - c).max(axis=1)) < 1e-6 else
+                hypervolume(np.vstack([current, (predicted[i] - low) / scale]), ref=reference) - base
+                for i, c in enumerate(candidates)
+            ])
+            best = int(np.argmax(gains))
+            if not np.isfinite(gains[best]):
+                break
+            if gains[best] <= 0:  # no predicted improvement: spread out instead (farthest from all tried)
+                distance = np.array([np.min(np.linalg.norm(np.vstack([tried] + [candidates[chosen]]) - c, axis=1)) if i not in chosen else -1 for i, c in enumerate(candidates)])
+                best = int(np.argmax(distance))
+            chosen.append(best)
+            current = np.vstack([current, (predicted[best] - low) / scale])
+        batch = candidates[chosen]
+        if len(batch) < o.batch:
+            batch = np.vstack([batch, rng.random((o.batch - len(batch), n))])
+        return batch
