@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 
 import numpy as np
 from pydantic import Field
@@ -103,16 +104,32 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
 
     def _fit(self, X, Y):
         """One GP per objective on log-objectives (errors are positive and span decades)."""
-        from sklearn.gaussian_process import GaussianProcessRegressor
-        from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
+        from sklearn.exceptions import ConvergenceWarning
 
         n = X.shape[1]
         models = []
-        for j in range(Y.shape[1]):
-            kernel = ConstantKernel(1.0, (1e-3, 1e3)) * Matern(np.full(n, 0.3), (1e-3, 1e2), nu=2.5) + WhiteKernel(1e-4, (1e-8, 1e-1))
-            gp = GaussianProcessRegressor(kernel, normalize_y=True, n_restarts_optimizer=0, random_state=self.seed + self._batches)
-            models.append(gp.fit(X, Y[:, j]))
-        return models
+        with warnings.catch_warnings():
+            # length scales at their bound mean "this tuner barely matters", which is an answer
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            return [self._fit_one(X, Y[:, j], n) for j in range(Y.shape[1])]
+
+    def _fit_one(self, X, y, n):
+        from sklearn.gaussian_process import GaussianProcessRegressor
+        from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
+
+        kernel = ConstantKernel(1.0, (1e-3, 1e3)) * Matern(np.full(n, 0.3), (1e-3, 1e2), nu=2.5) + WhiteKernel(1e-4, (1e-8, 1e-1))
+        gp = GaussianProcessRegressor(kernel, normalize_y=True, n_restarts_optimizer=0, random_state=self.seed + self._batches)
+        return gp.fit(X, y)
+
+    def _failure_model(self):
+        """Probability that a point fails, from its nearest evaluated neighbours (None: nothing failed)."""
+        if self._ok.all():
+            return None
+        from sklearn.neighbors import KNeighborsClassifier
+
+        knn = KNeighborsClassifier(n_neighbors=min(5, len(self._ok)), weights="distance").fit(self._X, ~self._ok)
+        failed_column = list(knn.classes_).index(True)
+        return lambda x: knn.predict_proba(x)[:, failed_column]
 
     def _surrogate_batch(self) -> np.ndarray:
         from moocore import hypervolume
@@ -133,9 +150,17 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
         models = self._fit(X, Y)
         kappa = o.exploration
 
+        failure_odds = self._failure_model()
+        # a likely failure costs more than the whole measured spread, so the search avoids regions
+        # where simulations crashed even though no objective value was learnt there
+        penalty = 2.0 * (Y.max(axis=0) - Y.min(axis=0) + 1e-9)
+
         class LowerBound(Problem):
             def _evaluate(self, x, out, *args, **kwargs):
-                out["F"] = np.column_stack([(lambda m, s: m - kappa * s)(*gp.predict(x, return_std=True)) for gp in models])
+                bound = np.column_stack([(lambda m, s: m - kappa * s)(*gp.predict(x, return_std=True)) for gp in models])
+                if failure_odds is not None:
+                    bound = bound + failure_odds(x)[:, None] * penalty
+                out["F"] = bound
 
         n = self.problem.n_var
         front = Y[_rank(Y) == 0]
