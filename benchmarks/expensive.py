@@ -1,0 +1,121 @@
+"""Surrogate-assisted gp_front against NSGA-II: hypervolume against the number of simulations.
+
+    python benchmarks/expensive.py [--case quickstart] [--seeds 5] [--nsga2-budget 2400] [--gp-budget 480]
+
+Real runs (real FMU through fmpy, dask workers) of the shipped workflow with only the optimiser
+block changed. Hypervolume (moocore) of log10 objectives, normalised by the best and worst
+successful values pooled over every run of the case, reference point 1.1 in each objective; the
+same normalisation and reference for both optimisers. Medians over seeds at checkpoints, the
+number of gp_front simulations that reach NSGA-II's median hypervolume at its full budget, and
+gp_front's own CPU per evaluation. The machine is shared: the load is printed before and after.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from moocore import hypervolume
+
+import simgap
+from simgap.calibrate import calibrate
+from simgap.executor import DaskExecutor
+from simgap.setup import prepare
+
+REPO = Path(__file__).resolve().parents[1]
+CASES = {"quickstart": REPO / "workflows" / "quickstart.yaml", "air_source_hp": REPO / "workflows" / "air_source_hp.yaml",
+         "energyplus_bungalow": REPO / "workflows" / "energyplus_bungalow.yaml"}
+
+
+def workflow_with(case: Path, out: Path, optimiser: str, seed: int, budget: int) -> Path:
+    text = case.read_text()
+    text = re.sub(r"^output:.*$", f"output: {out}", text, flags=re.M)
+    text = re.sub(r"^optimiser:\n(  .*\n)+", f"optimiser:\n  {optimiser}\n  seed: {seed}\n  budget: {{evaluations: {budget}}}\n", text, flags=re.M)
+    path = case.parent / f".bench_{out.name}.yaml"  # beside the original: relative paths keep working
+    path.write_text(text)
+    return path
+
+
+def objectives_in_order(run) -> np.ndarray:
+    ev = run.evaluations
+    order = np.argsort(ev["evaluation"].to_numpy()) if "evaluation" in ev else np.arange(len(ev))
+    F = ev[[f"objective.{n}" for n in run.objective_names]].to_numpy(float)[order]
+    F[(ev["status"].to_numpy()[order] != "ok")] = np.inf
+    return F
+
+
+def curve(F, low, high, checkpoints):
+    logF = np.log10(np.maximum(F, 1e-300))
+    normalised = (logF - low) / np.where(high > low, high - low, 1.0)
+    values = []
+    for n in checkpoints:
+        part = normalised[:n]
+        part = part[np.isfinite(part).all(axis=1)]
+        part = part[(part < 1.1).all(axis=1)]
+        values.append(hypervolume(part, ref=np.full(F.shape[1], 1.1)) if len(part) else 0.0)
+    return np.array(values)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--case", choices=CASES, default="quickstart")
+    parser.add_argument("--seeds", type=int, default=5)
+    parser.add_argument("--nsga2-budget", type=int, default=2400)
+    parser.add_argument("--nsga2-population", type=int, default=40)
+    parser.add_argument("--gp-budget", type=int, default=480)
+    parser.add_argument("--batch", type=int, default=8)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args(argv)
+    print(f"load before {os.getloadavg()}", flush=True)
+    runs = {"nsga2": [], "gp_front": []}
+    cpu = []
+    with tempfile.TemporaryDirectory() as tmp, DaskExecutor(workers=args.workers) as executor:
+        for seed in range(1, args.seeds + 1):
+            for name, block, budget in (
+                ("nsga2", f"plugin: nsga2\n  options: {{population: {args.nsga2_population}}}", args.nsga2_budget),
+                ("gp_front", f"plugin: gp_front\n  options: {{batch: {args.batch}}}", args.gp_budget),
+            ):
+                out = Path(tmp) / f"{name}_{seed}"
+                path = workflow_with(CASES[args.case], out, block, seed, budget)
+                try:
+                    wall, started = time.perf_counter(), time.process_time()
+                    run = simgap.load_run(calibrate(prepare(path), executor=executor))
+                    wall, own = time.perf_counter() - wall, time.process_time() - started
+                finally:
+                    path.unlink(missing_ok=True)
+                runs[name].append(objectives_in_order(run))
+                if name == "gp_front":
+                    cpu.append(own / budget)
+                print(f"  {name} seed {seed}: {budget} simulations, wall {wall:.0f} s, client CPU {own / budget:.3f} s per evaluation, load {os.getloadavg()[0]:.1f}", flush=True)
+    pooled = np.log10(np.maximum(np.vstack([F for Fs in runs.values() for F in Fs]), 1e-300))
+    pooled = pooled[np.isfinite(pooled).all(axis=1)]
+    low, high = pooled.min(axis=0), pooled.max(axis=0)
+    N = args.nsga2_budget
+    checkpoints = sorted({c for c in (N // 40, N // 20, N // 10, N // 5, N // 2, N, args.gp_budget) if c > 0})
+    print(f"\ncase {args.case}, {args.seeds} seeds, medians of normalised hypervolume (log10 objectives, ref 1.1)")
+    print("| simulations | " + " | ".join(map(str, checkpoints)) + " |\n" + "|---" * (len(checkpoints) + 1) + "|")
+    medians = {}
+    for name, Fs in runs.items():
+        values = np.median([curve(F, low, high, checkpoints) for F in Fs], axis=0)
+        medians[name] = values
+        shown = [f"{v:.4f}" if c <= (N if name == "nsga2" else args.gp_budget) else "" for c, v in zip(checkpoints, values)]
+        print(f"| {name} | " + " | ".join(shown) + " |")
+    target = medians["nsga2"][-1]
+    fine = list(range(args.batch, args.gp_budget + 1, args.batch))
+    gp_fine = np.median([curve(F, low, high, fine) for F in runs["gp_front"]], axis=0)
+    reached = next((n for n, v in zip(fine, gp_fine) if v >= target), None)
+    print(f"\nNSGA-II median hypervolume at N = {N}: {target:.4f}; gp_front median at {args.gp_budget}: {gp_fine[-1]:.4f}")
+    print(f"gp_front reaches it after {reached} simulations (goal <= N/5 = {N // 5})" if reached else
+          f"gp_front does not reach it within {args.gp_budget} simulations")
+    print(f"gp_front client CPU per evaluation (fits + search + run loop), median {statistics.median(cpu):.3f} s")
+    print(f"load after {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()
