@@ -276,15 +276,22 @@ class DaskExecutor:
             n = self.requested_workers or os.cpu_count() or 1
             # A task whose worker dies is not retried on the next worker by dask (each retry would
             # kill another worker): it comes back to us at once and is isolated (see run).
-            with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
-                self.cluster = LocalCluster(
-                    n_workers=n,
-                    threads_per_worker=1,
-                    processes=True,
-                    host="127.0.0.1",  # never listen beyond this machine
-                    dashboard_address="127.0.0.1:0",  # any free port: several runs may share a machine
-                    silence_logs=logging.CRITICAL,
-                )
+            for attempt in range(2):  # a worker process that dies while the cluster starts: start again
+                try:
+                    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+                        self.cluster = LocalCluster(
+                            n_workers=n,
+                            threads_per_worker=1,
+                            processes=True,
+                            host="127.0.0.1",  # never listen beyond this machine
+                            dashboard_address="127.0.0.1:0",  # any free port: several runs may share a machine
+                            silence_logs=logging.CRITICAL,
+                        )
+                    break
+                except (RuntimeError, OSError, TimeoutError) as exc:
+                    if attempt:
+                        raise SimgapError(f"cannot start {n} local dask workers: {_one_line(exc)}") from None
+                    log.warning("starting the local dask workers failed (%s); starting again", _one_line(exc))
             self.client = Client(self.cluster)
         return self
 
