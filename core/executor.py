@@ -39,7 +39,7 @@ log = logging.getLogger(__name__)
 
 # A task that has been executing longer than (evaluations × timeout × factor + grace) is stuck.
 HARD_TIMEOUT_FACTOR = 1.5
-HARD_TIMEOUT_GRACE_S = 30.0
+HARD_TIMEOUT_GRACE_S = 10.0
 POLL_S = 0.5
 TASK_SECONDS = 0.25
 NO_WORKER_LIMIT_S = 120.0
