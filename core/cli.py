@@ -256,5 +256,10 @@ from .sensitivity_cli import sensitivity_command  # noqa: E402  (body in simgap.
 main.add_command(sensitivity_command)
 
 
+from .inspect import inspect_command  # noqa: E402  (body in simgap.inspect)
+
+main.add_command(inspect_command)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()
