@@ -161,7 +161,13 @@ def resume(
     run_dir = Path(run_dir).resolve()
     info = read_run_info(run_dir)
     if (run_dir / SUMMARY).is_file():
-        raise SimgapError(f"{run_dir} finished already ({SUMMARY} exists); nothing to resume")
+        import json
+
+        stopped = json.loads((run_dir / SUMMARY).read_text(encoding="utf-8")).get("stop_reason", "")
+        if not stopped.startswith("wall-time budget"):
+            raise SimgapError(f"{run_dir} finished already ({SUMMARY} exists); nothing to resume")
+        # stopped by its wall-time budget: going on gives it another one (its summary is rewritten)
+        (run_dir / SUMMARY).unlink()
     # the copy's relative paths were written relative to the original workflow's folder
     wf = load_workflow(run_dir / WORKFLOW, base_dir=Path(info["base_dir"]))
     prepared = prepare(wf)

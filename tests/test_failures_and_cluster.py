@@ -110,6 +110,7 @@ def test_unreachable_scheduler_is_a_clear_error(quickstart_text, write_workflow)
     result = CliRunner().invoke(main, ["run", str(path), "--scheduler", f"tcp://127.0.0.1:{_free_port()}"])
     assert result.exit_code == 2
     assert "cannot reach the dask scheduler" in result.output
+    assert not (path.parent / "runs").exists() or not any((path.parent / "runs").iterdir())  # no empty run folder
 
 
 def test_model_stuck_inside_a_step_is_failed_and_its_worker_restarted(quickstart_text, write_workflow, monkeypatch):

@@ -282,3 +282,28 @@ def build_fmu_with_library(source: Path, cache: Path, lib_dir: Path) -> Path:
                 z.write(f, f.relative_to(work).as_posix())
     shutil.rmtree(work)
     return out
+
+
+@pytest.mark.slow  # about a minute: two cluster starts and 9 s budgets
+@pytest.mark.timeout(300)
+def test_a_wall_time_budget_stops_inside_a_generation_and_resume_goes_on(quickstart_text, write_workflow):
+    """A generation of 16 slow simulations (1 s each on 2 workers) outlasts a 9 s budget: the run
+    stops within about one simulation's time, logs what finished, and --resume carries on."""
+    text = fault_workflow(quickstart_text, {"slow": (0.0, 1.01)}, evaluations=32, population=16, slow_s=1.0)
+    text = text.replace("budget: {evaluations: 32}", "budget: {evaluations: 32, wall_time: 9s}")  # from the start, cluster included
+    path = write_workflow(text)
+    started = time.monotonic()
+    result, run = _run(path, "--workers", "2")
+    elapsed = time.monotonic() - started
+    assert result.exit_code == 0, result.output
+    first = run.evaluations
+    assert 0 < len(first) < 16, len(first)  # stopped inside the first generation
+    assert (first["status"] == "ok").all() and first["eval_id"].is_unique
+    assert run.summary["stop_reason"].startswith("wall-time budget")
+    assert elapsed < 60
+    resumed = CliRunner().invoke(main, ["run", "--resume", str(run.dir)])
+    assert resumed.exit_code == 0, resumed.output
+    again = simgap.load_run(run.dir).evaluations
+    assert len(again) > len(first) and again["eval_id"].is_unique
+    kept = again.set_index("eval_id").loc[first["eval_id"], "param.fault"].to_numpy()
+    assert (kept == first["param.fault"].to_numpy()).all()
