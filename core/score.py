@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from pydantic import ValidationError
 
-from .config import LoadedWorkflow, Scoring, Workflow, validation_error
+from .config import LoadedWorkflow, OptimiserConfig, Scoring, Workflow, validation_error
 from .data import load_measured, segments
 from .errors import DataError, SimgapError
 from .plugin_host import get_registry
@@ -25,10 +25,17 @@ from .yamlfile import read_yaml
 TABLE_SUFFIXES = {".parquet", ".pq", ".csv"}
 
 
+class WorkflowToScore(Workflow):
+    """A full workflow read for scoring: every section is checked, but scoring runs no
+    optimiser, so a workflow written only to score (no ``optimiser:``) is valid."""
+
+    optimiser: OptimiserConfig | None = None
+
+
 def load_scoring(path: str | Path) -> LoadedWorkflow:
     """A full workflow, or a scoring file (data and targets, optionally a simulator)."""
     doc = read_yaml(path)
-    model_cls = Workflow if "parameters" in doc.data else Scoring
+    model_cls = WorkflowToScore if set(doc.data) - set(Scoring.model_fields) else Scoring
     try:
         model = model_cls.model_validate(doc.data)
     except ValidationError as exc:

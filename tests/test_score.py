@@ -12,7 +12,7 @@ from click.testing import CliRunner
 import simgap
 from simgap.cli import main
 from simgap.plugins.fmu import FMUSimulator
-from tests.conftest import QUICKSTART, REPO
+from tests.conftest import QUICKSTART, REPO, absolutise
 
 DATA = REPO / "examples" / "data" / "quickstart_measured.csv"
 
@@ -77,3 +77,19 @@ def test_missing_series_and_no_overlap(true_results, tmp_path):
     result = CliRunner().invoke(main, ["score", str(QUICKSTART), str(tmp_path / "notable.csv")])
     assert result.exit_code == 2 and "cannot read result files" in result.output
     assert np.isfinite(frame["T_zone"]).all()
+
+
+def test_workflow_without_optimiser_scores(true_results, tmp_path):
+    """A workflow written only to score needs no optimiser section (issue 13)."""
+    text = QUICKSTART.read_text()
+    start = text.index("\noptimiser:")
+    rest = text[start + 1:]
+    following = next((i for i, line in enumerate(rest.splitlines()) if i and line and not line[0].isspace()), None)
+    kept = text[:start + 1] + ("\n".join(rest.splitlines()[following:]) if following else "")
+    assert "optimiser:" not in kept and "parameters:" in kept
+    spec = tmp_path / "score_only.yaml"
+    spec.write_text(absolutise(kept, QUICKSTART.parent))
+    result = CliRunner().invoke(main, ["score", str(spec), str(true_results), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    rows = {(r["target"], r["metric"]): r for r in json.loads(result.output)}
+    assert rows[("T_zone", "rmse")]["value"] == pytest.approx(0.05, rel=0.3)
