@@ -12,6 +12,7 @@ import pandas as pd
 from .config import LoadedWorkflow, TimeRange, parse_duration
 from .errors import ConfigError
 from .units import conversion
+from .suggest import did_you_mean
 
 DEFAULT_ORIGIN = "2000-01-01 00:00"
 
@@ -109,7 +110,7 @@ def _parse_time(wf: LoadedWorkflow, table: pd.DataFrame, notes: list[str]) -> pd
     spec = wf.model.data.time
     key = ("data", "time", "column")
     if spec.column not in table.columns:
-        raise wf.error(key, f"time column {spec.column!r} not in {wf.model.data.file}; columns: {', '.join(map(str, table.columns))}")
+        raise wf.error(key, f"time column {spec.column!r} not in {wf.model.data.file}{did_you_mean(spec.column, table.columns)}; columns: {', '.join(map(str, table.columns))}")
     raw = table[spec.column]
     if spec.unit == "datetime":
         _same_kind_of_time(wf, raw, key)
@@ -151,7 +152,7 @@ def load_measured(wf: LoadedWorkflow) -> MeasuredData:
     for new_name, spec in cfg.columns.items():
         key = ("data", "columns", new_name)
         if spec.source not in frame.columns:
-            raise wf.error(key + ("from",), f"column {spec.source!r} not in {cfg.file}; columns: {', '.join(map(str, frame.columns))}")
+            raise wf.error(key + ("from",), f"column {spec.source!r} not in {cfg.file}{did_you_mean(spec.source, frame.columns)}; columns: {', '.join(map(str, frame.columns))}")
         series = pd.to_numeric(frame[spec.source], errors="coerce")
         if spec.to is not None:
             try:

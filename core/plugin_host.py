@@ -52,7 +52,9 @@ class Registry:
             return self.items[kind][name]
         except KeyError:
             known = ", ".join(sorted(self.items[kind])) or "none installed"
-            raise PluginError(f"unknown {kind} '{name}'; available: {known}") from None
+            from .suggest import did_you_mean
+
+            raise PluginError(f"unknown {kind} '{name}'{did_you_mean(name, self.items[kind])}; available: {known}") from None
 
     def names(self, kind: str) -> list[str]:
         return sorted(self.items[kind])

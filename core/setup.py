@@ -22,6 +22,7 @@ from .evaluation import Bins, ClassRun, EvaluationSetup, MetricSlot, TargetData
 from .interfaces import PluginContext, Problem, SimulationCase, Simulator
 from .plugin_host import Registry, get_registry
 from .space import ParameterSpace
+from .suggest import did_you_mean
 
 
 def cache_dir() -> Path:
@@ -113,27 +114,27 @@ def check_model(wf: LoadedWorkflow, simulator: Simulator) -> None:
     for i, p in enumerate(m.parameters):
         var = variables.get(p.name)
         if var is None:
-            problems.append((("parameters", i, "name"), f"{p.name!r} (no such variable)"))
+            problems.append((("parameters", i, "name"), f"{p.name!r} (no such variable{did_you_mean(p.name, variables, inside_parentheses=True)})"))
         elif not var.settable:
             why = var.why_not_settable or f"a {var.kind}, not a settable parameter"
             problems.append((("parameters", i, "name"), f"{p.name!r} ({why})"))
     for name in m.simulator.initial:
         var = variables.get(name)
         if var is None or not var.settable:
-            why = "no such variable" if var is None else (var.why_not_settable or f"a {var.kind}")
+            why = f"no such variable{did_you_mean(name, variables, inside_parentheses=True)}" if var is None else (var.why_not_settable or f"a {var.kind}")
             problems.append((("simulator", "initial", name), f"initial-value parameter {name!r} ({why})"))
         elif name in {p.name for p in m.parameters}:
             problems.append((("simulator", "initial", name), f"{name!r} is a tuner parameter and cannot also take its value from the data"))
     for name in m.simulator.inputs:
         var = variables.get(name)
         if var is None:
-            problems.append((("simulator", "inputs", name), f"input {name!r} (no such variable)"))
+            problems.append((("simulator", "inputs", name), f"input {name!r} (no such variable{did_you_mean(name, variables, inside_parentheses=True)})"))
         elif var.kind != "input":
             problems.append((("simulator", "inputs", name), f"input {name!r} (it is a {var.kind}, not an input)"))
     for i, t in enumerate(m.targets):
         for v in t.simulated_variables:
             if v not in variables:
-                problems.append((("targets", i, "simulated"), f"target variable {v!r} (no such variable)"))
+                problems.append((("targets", i, "simulated"), f"target variable {v!r} (no such variable{did_you_mean(v, variables, inside_parentheses=True)})"))
     if problems:
         key = problems[0][0]
         listed = ", ".join(msg for _, msg in problems)
@@ -168,11 +169,11 @@ def _check_columns(wf: LoadedWorkflow, data: MeasuredData) -> None:
     for section in ("inputs", "initial"):
         for name, column in getattr(wf.model.simulator, section).items():
             if column not in cols:
-                raise wf.error(("simulator", section, name), f"measured column {column!r} not in the data; columns: {available}")
+                raise wf.error(("simulator", section, name), f"measured column {column!r} not in the data{did_you_mean(column, cols)}; columns: {available}")
     for i, t in enumerate(wf.model.targets):
         for column in t.measured_columns:
             if column not in cols:
-                raise wf.error(("targets", i, "measured"), f"measured column {column!r} not in the data; columns: {available}")
+                raise wf.error(("targets", i, "measured"), f"measured column {column!r} not in the data{did_you_mean(column, cols)}; columns: {available}")
 
 
 def _cases(wf: LoadedWorkflow, data: MeasuredData, segs: list[Segment], token: str, notes: list[str]):
@@ -256,7 +257,7 @@ def class_rows(wf: LoadedWorkflow, index: int, rows: pd.DataFrame) -> np.ndarray
         inside &= in_range
     for j, cond in enumerate(c.when):
         if cond.column not in rows.columns:
-            raise wf.error(("classes", index, "when", j, "column"), f"measured column {cond.column!r} not in the data; columns: {', '.join(map(str, rows.columns))}")
+            raise wf.error(("classes", index, "when", j, "column"), f"measured column {cond.column!r} not in the data{did_you_mean(cond.column, rows.columns)}; columns: {', '.join(map(str, rows.columns))}")
         values = rows[cond.column].to_numpy(dtype=float)
         with np.errstate(invalid="ignore"):
             if cond.above is not None:

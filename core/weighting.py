@@ -38,8 +38,10 @@ def weight_vector(weights: dict[str, float] | None, problem: Problem) -> np.ndar
         return np.ones(problem.n_obj)
     unknown = [name for name in weights if name not in known]
     if unknown:
+        from .suggest import did_you_mean
+
         raise ConfigError(
-            f"unknown objective(s) {', '.join(repr(u) for u in unknown)}; "
+            f"unknown objective(s) {', '.join(repr(u) + did_you_mean(u, known) for u in unknown)}; "
             f"the objectives of this workflow are: {', '.join(known)}",
             path="optimiser.options.weights",
         )

@@ -45,18 +45,18 @@ def test_malformed_yaml_names_file_and_line(quickstart_text, write_workflow):
 def test_unknown_plugin_points_at_its_line(quickstart_text, write_workflow):
     text = quickstart_text.replace("plugin: nsga2", "plugin: nsga9")
     line = next(i for i, t in enumerate(text.splitlines(), 1) if "nsga9" in t)
-    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{line}", "optimiser.plugin", "unknown optimiser 'nsga9'", "nsga2")
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{line}", "optimiser.plugin", "unknown optimiser 'nsga9' (did you mean", "'nsga2'?)")
 
 
 def test_unknown_metric(quickstart_text, write_workflow):
     text = quickstart_text.replace("metrics: [cvrmse]", "metrics: [cvrmsee]")
-    assert_one_line_error(check(write_workflow(text)), "targets[1].metrics[0].name", "unknown metric 'cvrmsee'")
+    assert_one_line_error(check(write_workflow(text)), "targets[1].metrics[0].name", "unknown metric 'cvrmsee' (did you mean 'cvrmse'")
 
 
 def test_missing_data_column(quickstart_text, write_workflow):
     text = quickstart_text.replace("P_el: P_el_W", "P_el: P_electric_W")
     line = next(i for i, t in enumerate(text.splitlines(), 1) if "P_electric_W" in t)
-    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{line}", "data.columns.P_el", "'P_electric_W' not in", "T_zone_degC")
+    assert_one_line_error(check(write_workflow(text)), f"workflow.yaml:{line}", "data.columns.P_el", "'P_electric_W' not in", "(did you mean 'P_el_W'?)", "T_zone_degC")
 
 
 def test_min_not_below_max(quickstart_text, write_workflow):
@@ -67,7 +67,7 @@ def test_min_not_below_max(quickstart_text, write_workflow):
 
 def test_unknown_model_variable_lists_all(quickstart_text, write_workflow):
     text = quickstart_text.replace("name: UA_env,", "name: UA_envelope,").replace("simulated: P_el", "simulated: P_electric")
-    assert_one_line_error(check(write_workflow(text)), "parameters[1].name", "'UA_envelope' (no such variable)", "'P_electric' (no such variable)")
+    assert_one_line_error(check(write_workflow(text)), "parameters[1].name", "'UA_envelope' (no such variable; did you mean 'UA_env'?)", "'P_electric' (no such variable; did you mean 'P_el'?)")
 
 
 def test_non_settable_parameter(quickstart_text, write_workflow):
@@ -96,7 +96,7 @@ def test_missing_workflow_file(tmp_path):
 
 def test_unknown_key_and_bad_duration(quickstart_text, write_workflow):
     text = quickstart_text.replace("  seed: 1\n", "  seed: 1\n  sede: 2\n")
-    assert_one_line_error(check(write_workflow(text)), "optimiser.sede", "unknown key")
+    assert_one_line_error(check(write_workflow(text)), "optimiser.sede", "unknown key (did you mean 'seed'?)")
     text = quickstart_text.replace("timeout: 30s", "timeout: soon")
     assert_one_line_error(check(write_workflow(text)), "execution.timeout", "expected a duration")
 
@@ -118,7 +118,7 @@ def test_real_process_prints_no_traceback(quickstart_text, write_workflow):
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert proc.stderr.strip().count("\n") == 0
-    assert "unknown simulator 'fmux'" in proc.stderr
+    assert "unknown simulator 'fmux' (did you mean 'fmu'" in proc.stderr
 
 
 @pytest.mark.parametrize("bad", ["[1, 2", "data: {file: x", "- just\n- a list\n"])
@@ -143,4 +143,12 @@ def test_several_series_need_a_multi_column_metric(quickstart_text, write_workfl
 
 def test_unknown_weight_name_is_found_by_check(quickstart_text, write_workflow):
     text = quickstart_text.replace("plugin: nsga2\n  options: {population: 40}", "plugin: pso\n  options: {weights: {T_zone.rmse: 0.95, P_el.cvrmsee: 0.05}}")
-    assert_one_line_error(check(write_workflow(text)), "optimiser.options.weights", "'P_el.cvrmsee'", "T_zone.rmse, P_el.cvrmse")
+    assert_one_line_error(check(write_workflow(text)), "optimiser.options.weights", "'P_el.cvrmsee' (did you mean 'P_el.cvrmse'?)", "T_zone.rmse, P_el.cvrmse")
+
+
+def test_metric_option_beside_name_says_where_it_belongs(quickstart_text, write_workflow):
+    """`window:` written beside `name:` instead of under `options:` (issue 13)."""
+    text = quickstart_text.replace("metrics: [rmse]", "metrics: [{name: dtw, window: 3h}]")
+    assert_one_line_error(check(write_workflow(text)), "targets[0].metrics[0].window", "unknown key", "belongs under 'options:'")
+    text = quickstart_text.replace("metrics: [rmse]", "metrics: [{name: rmse, resolutoin: 1h}]")
+    assert_one_line_error(check(write_workflow(text)), "targets[0].metrics[0].resolutoin", "did you mean 'resolution'?")
