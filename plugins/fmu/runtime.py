@@ -146,6 +146,28 @@ def _extract(digest: str, fmu_bytes: bytes) -> Path:
         return folder
 
 
+_loaded_libraries: dict[str, ctypes.CDLL] = {}  # kept referenced: unloading would break the FMU
+
+
+def prepare_process(libraries: tuple[str, ...], environment: dict[str, str]) -> None:
+    """Set ``environment`` and load ``libraries`` (RTLD_GLOBAL, so the FMU's binary resolves its
+    symbols against them) in this process, once; a library that cannot be loaded is a ModelError
+    naming it and the option."""
+    for key, value in environment.items():
+        if os.environ.get(key) != value:
+            os.environ[key] = value
+    for library in libraries:
+        if library in _loaded_libraries:
+            continue
+        try:
+            _loaded_libraries[library] = ctypes.CDLL(library, mode=ctypes.RTLD_GLOBAL)
+        except OSError as exc:
+            raise simgap.ModelError(
+                f"simulator.options.libraries: cannot load {library!r} ({exc}); "
+                f"expected a path (relative to the workflow) or a name the system loader finds"
+            ) from None
+
+
 def acquire(digest: str, fmu_bytes: bytes, fmi_type: str) -> FMURuntime:
     """An idle runtime for this FMU, or a new one (extracting the FMU if this process has not)."""
     _forget_parent_state()

@@ -54,6 +54,16 @@ class FMUOptions(simgap.PluginOptions):
     the start). Means are taken over the communication steps: set ``step_size`` below the
     sample interval for them to mean something."""
 
+    libraries: list[str] = Field(default_factory=list)
+    """Shared libraries the FMU's binary needs but does not ship (e.g. ``libgfortran.so.3``):
+    paths (relative to the workflow file) or names the system loader finds. Each process that
+    runs the FMU, dask workers included, loads them with RTLD_GLOBAL before the FMU: no
+    ``LD_PRELOAD`` needed. The loader matches the FMU's need to a loaded library by its SONAME."""
+    environment: dict[str, str] = Field(default_factory=dict)
+    """Environment variables set in every process that runs the FMU, before it is loaded (a
+    licence server, a data folder). The loader's own variables such as ``LD_LIBRARY_PATH`` are
+    read at process start only: use ``libraries`` for shared libraries."""
+
     @model_validator(mode="after")
     def _exactly_one_model(self) -> "FMUOptions":
         if (self.fmu is None) == (self.source is None):
@@ -100,6 +110,9 @@ class FMUSimulator(simgap.Simulator):
         else:
             path = context.resolve(options.fmu)
         self.fmu_path = path
+        self._libraries = tuple(_library_path(context, name) for name in options.libraries)
+        self._environment = dict(options.environment)
+        fmu_runtime.prepare_process(self._libraries, self._environment)  # here too: errors surface at check
         self._fmu_bytes = _read_fmu_bytes(path)
         self._digest = hashlib.sha256(self._fmu_bytes).hexdigest()
         description = _read_description(path)
@@ -123,10 +136,13 @@ class FMUSimulator(simgap.Simulator):
         deadline: float | None = None,
     ) -> Mapping[str, np.ndarray]:
         self._check_parameters(parameters)
+        fmu_runtime.prepare_process(self._libraries, self._environment)  # a worker's first run loads them
         try:
             runtime = fmu_runtime.acquire(self._digest, self._fmu_bytes, self._fmi_type)
         except Exception as exc:
-            raise simgap.SimulationFailed(f"cannot load the FMU {self.fmu_path.name}: {_one_line(exc)}") from None
+            raise simgap.SimulationFailed(
+                f"cannot load the FMU {self.fmu_path.name}: {_one_line(exc)}{_missing_library_hint(exc)}"
+            ) from None
         broken = False
         try:
             if self._fmi_type == "CoSimulation":
@@ -380,6 +396,23 @@ class FMUSimulator(simgap.Simulator):
 
 # -------------------------------------------------------------------------------------------
 # reading the FMU on the client
+
+
+def _library_path(context: simgap.PluginContext, name: str) -> str:
+    """A path for a name with a folder in it (relative to the workflow); a bare name as given,
+    for the system loader to find (``libgfortran.so.3``)."""
+    return str(context.resolve(name)) if "/" in name else name
+
+
+def _missing_library_hint(exc: BaseException) -> str:
+    """For a loader error about a missing shared object: which one, and the option to use."""
+    import re
+
+    match = re.search(r"([\w.+-]+\.so(?:\.[\d.]+)?): cannot open shared object file", str(exc))
+    if match is None:
+        return ""
+    return (f"; the FMU needs {match.group(1)}, which this machine's loader cannot find: give its path "
+            f"under simulator.options.libraries")
 
 
 def _read_fmu_bytes(path: Path) -> bytes:
