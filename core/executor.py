@@ -61,8 +61,8 @@ class SetupPlugin(WorkerPlugin):
     """Installs an evaluation setup on every worker, including workers that join or restart later
     (dask keeps registered worker plugins and hands them to each new worker)."""
 
-    def __init__(self, setup: EvaluationSetup):
-        self.token = setup.token
+    def __init__(self, setup: EvaluationSetup, key: str):
+        self.token = key
         self.setup_object = setup
 
     def setup(self, worker=None):
@@ -234,7 +234,7 @@ class DaskExecutor:
         self.connect_timeout_s = connect_timeout_s
         self.client = None
         self.cluster = None
-        self._shared: set[str] = set()
+        self._shared: dict[int, tuple[EvaluationSetup, str]] = {}
         self._executing_since: dict[object, float] = {}
         self._seconds_per_evaluation: float | None = None
         self.restarts = 0
@@ -317,19 +317,22 @@ class DaskExecutor:
 
     def share(self, setup: EvaluationSetup) -> str:
         """Install the setup on every worker, present and future; returns the handle tasks use."""
-        if setup.token not in self._shared:
-            plugin = SetupPlugin(setup)
+        # Keyed by the setup object: setups built for different scorings may share a token.
+        shared = self._shared.get(id(setup))
+        if shared is None:
+            key = f"simgap-setup-{setup.token}-{len(self._shared)}"
+            plugin = SetupPlugin(setup, key)
             for attempt in range(3):
                 try:
-                    self.client.register_plugin(plugin, name=f"simgap-setup-{setup.token}")
+                    self.client.register_plugin(plugin, name=key)
                     break
                 except Exception as exc:  # noqa: BLE001 — a worker died during the broadcast
                     # The scheduler keeps the plugin and installs it on every worker that (re)joins;
                     # registering again reaches the workers that the failed broadcast missed.
                     log.info("installing the setup on the workers: %s; trying again", _one_line(exc))
                     time.sleep(1.0)
-            self._shared.add(setup.token)
-        return setup.token
+            shared = self._shared[id(setup)] = (setup, key)  # the setup is kept: its id stays its own
+        return shared[1]
 
     def _chunks(self, jobs: list) -> list[list]:
         """Tasks of about TASK_SECONDS of work: enough evaluations per task that scheduling
