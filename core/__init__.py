@@ -30,6 +30,7 @@ _LAZY = {
     "build_fmu": "fmu_build",
     "FMULog": "fmu_log",
     "hookimpl": "plugin_host",
+    "simulate": "resimulate",
     **dict.fromkeys(["WeightedOptions", "scalarise", "weight_vector"], "weighting"),
 }
 
@@ -72,6 +73,7 @@ __all__ = [
     "Variable",
     "hookimpl",
     "load_run",
+    "simulate",
     "__version__",
     "build_fmu",
     "FMULog",

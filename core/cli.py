@@ -261,5 +261,10 @@ from .inspect import inspect_command  # noqa: E402  (body in simgap.inspect)
 main.add_command(inspect_command)
 
 
+from .resimulate import simulate_command  # noqa: E402  (body in simgap.resimulate)
+
+main.add_command(simulate_command)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()
