@@ -1,4 +1,8 @@
-"""Build an FMI 2.0 FMU from a folder of C sources and a hand-written ``modelDescription.xml``.
+"""Build an FMI 2.0 or 3.0 FMU from a folder of C sources and a hand-written ``modelDescription.xml``.
+
+The FMI version comes from the XML: the headers of both (``fmi2Functions.h``, ``fmi3Functions.h``)
+are fmpy's, and the binary goes where the version puts it (``binaries/linux64`` for 2.0,
+``binaries/x86_64-linux`` for 3.0).
 
 The result is cached under ``<cache_dir>/fmus/<modelIdentifier>-<hash>.fmu``: the hash covers the
 sources, the XML and the compiler command, so an edit rebuilds and an unchanged folder does not.
@@ -22,6 +26,8 @@ from .errors import ModelError
 _RECIPE_VERSION = "1"
 _COMPILE_FLAGS = ("-shared", "-fPIC", "-O2")
 _SOURCE_SUFFIXES = (".c", ".h")
+# where each FMI major version keeps the Linux binary
+_BINARY_FOLDERS = {"2": "binaries/linux64", "3": "binaries/x86_64-linux"}
 
 
 def build_fmu(source_dir: Path, cache_dir: Path) -> Path:
@@ -41,7 +47,7 @@ def build_fmu(source_dir: Path, cache_dir: Path) -> Path:
     if not c_files:
         raise ModelError(f"{source_dir}: no *.c files in the FMU source folder")
 
-    identifiers = _model_identifiers(xml_path)
+    identifiers, fmi_version = _model_identifiers(xml_path)
     compiler = os.environ.get("CC", "gcc")
     compiler_path = shutil.which(compiler)
     if compiler_path is None:
@@ -84,7 +90,7 @@ def build_fmu(source_dir: Path, cache_dir: Path) -> Path:
             with zipfile.ZipFile(partial, "w", compression=zipfile.ZIP_DEFLATED) as fmu:
                 fmu.write(xml_path, "modelDescription.xml")
                 for identifier, library in libraries.items():
-                    fmu.write(library, f"binaries/linux64/{identifier}.so")
+                    fmu.write(library, f"{_BINARY_FOLDERS[fmi_version]}/{identifier}.so")
                 for source in sorted(source_dir.iterdir()):
                     if source.suffix in _SOURCE_SUFFIXES:
                         fmu.write(source, f"sources/{source.name}")
@@ -96,16 +102,17 @@ def build_fmu(source_dir: Path, cache_dir: Path) -> Path:
     return target
 
 
-def _model_identifiers(xml_path: Path) -> list[str]:
+def _model_identifiers(xml_path: Path) -> tuple[list[str], str]:
     from fmpy.model_description import read_model_description
 
     try:
         description = read_model_description(str(xml_path), validate=False)
     except Exception as exc:  # fmpy raises plain exceptions for XML and schema problems
         raise ModelError(f"{xml_path}: not a valid FMI model description: {_first_line(exc)}") from None
-    if description.fmiVersion != "2.0":
+    fmi_version = description.fmiVersion.split(".")[0]
+    if fmi_version not in _BINARY_FOLDERS:
         raise ModelError(
-            f"{xml_path}: fmiVersion is '{description.fmiVersion}', the C-source builder handles FMI 2.0"
+            f"{xml_path}: fmiVersion is '{description.fmiVersion}', the C-source builder handles FMI 2.0 and 3.0"
         )
     identifiers = []
     for interface in (description.coSimulation, description.modelExchange):
@@ -113,15 +120,16 @@ def _model_identifiers(xml_path: Path) -> list[str]:
             identifiers.append(interface.modelIdentifier)
     if not identifiers:
         raise ModelError(f"{xml_path}: declares neither <CoSimulation> nor <ModelExchange>")
-    return identifiers
+    return identifiers, fmi_version
 
 
 def _fmi_headers() -> Path:
     import fmpy
 
     include_dir = Path(fmpy.__file__).parent / "c-code"
-    if not (include_dir / "fmi2Functions.h").is_file():
-        raise ModelError(f"the FMI 2.0 headers are missing from fmpy's installation ({include_dir})")
+    for header in ("fmi2Functions.h", "fmi3Functions.h"):
+        if not (include_dir / header).is_file():
+            raise ModelError(f"the FMI header {header} is missing from fmpy's installation ({include_dir})")
     return include_dir
 
 
