@@ -96,3 +96,24 @@ def register_effects(register):
 
     Effects are instantiated without arguments and must not keep state between calls.
     """
+
+
+@hookspec
+def register_model_readers(register):
+    """Register model readers for ``simgap inspect``: ``register(MyModelReader)``.
+
+    A model reader describes a model file a simulator of the same plugin can run, so a user can
+    see what to write in a workflow. It is a class with a ``name``, ``suffixes`` (the file
+    suffixes it reads, lower case, e.g. ``(".idf", ".epjson")``) and a static or class method
+    ``describe(path) -> dict``, returning plain JSON-ready data:
+
+    - ``model``, ``kind``: the path and the kind of model;
+    - ``header``: ``{label: value}`` lines printed above the tables;
+    - ``tables``: ``[{"kind", "title", "columns"}]``, one printed table per kind of row;
+    - ``variables``: rows, each with ``name`` and ``causality`` (``parameter`` for what a
+      workflow can tune, ``output`` for what it can compare: ``simgap inspect`` filters on
+      both), ``kind`` (which table) and that table's columns.
+
+    Raise :class:`simgap.ModelError` with one line for a model that cannot be read. FMUs are
+    described by simgap itself.
+    """

@@ -4,7 +4,9 @@ For an FMU (a .fmu archive, an unpacked folder or a bare modelDescription.xml) i
 modelDescription with fmpy and lists the FMI version, generating tool, step sizes and every
 variable (name, causality, variability, type, unit, start, description), the table a user needs to
 write `tuners:`, `inputs:` and `targets:`. Filters narrow the table before it is formatted, so a
-10,000-variable model prints only what was asked for.
+10,000-variable model prints only what was asked for. Other model files (EnergyPlus IDF/epJSON)
+are described by the plugin that registered a model reader for their suffix
+(``register_model_readers``); the same filters apply to its rows.
 """
 
 from __future__ import annotations
@@ -89,16 +91,47 @@ def filter_variables(variables: list[dict], causality: tuple[str, ...] = (), pat
 
 
 def inspect_model(model: str | Path, causality: tuple[str, ...] = (), pattern: str | None = None) -> dict:
-    """Describe ``model`` (FMU) with its variables filtered by causality and name pattern."""
+    """Describe ``model`` with its variables filtered by causality and name pattern: an FMU here,
+    any other model file by the plugin model reader that claims its suffix."""
     model = Path(model)
     if not model.exists():
         raise ModelError(f"{model}: no such file or folder")
-    if model.suffix.lower() in (".idf", ".epjson"):
-        raise ModelError(f"{model}: inspecting EnergyPlus models is not available yet; expected an FMU")
-    info = read_fmu_description(model)
+    reader = None if model.is_dir() or model.suffix.lower() in (".fmu", ".xml") else model_reader_for(model)
+    info = read_fmu_description(model) if reader is None else reader.describe(model)
     info["variable_count"] = len(info["variables"])
     info["variables"] = filter_variables(info["variables"], causality, pattern)
     return info
+
+
+def model_reader_for(model: Path):
+    """The plugin model reader (hook ``register_model_readers``) for ``model``'s suffix, or None
+    for a file that should be an FMU."""
+    from .plugin_host import get_registry
+
+    registry = get_registry()
+    suffix = model.suffix.lower()
+    readers = [registry.get("model reader", name) for name in registry.names("model reader")]
+    for reader in readers:
+        if suffix in reader.suffixes:
+            return reader
+    return None
+
+
+def format_tables(info: dict) -> str:
+    """A plugin-described model: its header lines, then one table per kind of row."""
+    lines = [f"model:            {info['model']}  ({info['kind']})"]
+    lines += [f"{label + ':':<17} {value}" for label, value in info.get("header", {}).items()]
+    lines.append(f"entries:          {len(info['variables'])} shown of {info['variable_count']}")
+    for table in info.get("tables", []):
+        rows = [v for v in info["variables"] if v.get("kind") == table["kind"]]
+        if not rows:
+            continue
+        columns = table["columns"]
+        cells = [columns] + [[str(v.get(c, "")) for c in columns] for v in rows]
+        widths = [max(len(row[i]) for row in cells) for i in range(len(columns))]
+        lines += ["", f"{table['title']}: {len(rows)}"]
+        lines += ["  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip() for row in cells]
+    return "\n".join(lines)
 
 
 def format_table(variables: list[dict], max_description: int = 60) -> str:
@@ -135,10 +168,14 @@ def format_header(info: dict) -> str:
 @click.option("--name", "pattern", help="only names matching this pattern (substring or glob, case-insensitive; /regex/)")
 @click.option("--json", "as_json", is_flag=True, help="print the description as JSON")
 def inspect_command(model: Path, causality: tuple[str, ...], pattern: str | None, as_json: bool):
-    """List what MODEL (an FMU) offers: FMI version, tool, step sizes and its variables."""
+    """List what MODEL offers: for an FMU its FMI version, tool, step sizes and variables; for an
+    EnergyPlus IDF/epJSON (or another plugin's model) the fields to tune and the outputs to record."""
     info = inspect_model(model, causality, pattern)  # a ModelError becomes one line, exit 2 (cli.main)
     if as_json:
         click.echo(json.dumps(info, indent=1, default=str))
+        return
+    if info["kind"] != "fmu":
+        click.echo(format_tables(info))
         return
     click.echo(format_header(info))
     click.echo()

@@ -24,6 +24,7 @@ KINDS = {
     "register_metrics": "metric",
     "register_optimisers": "optimiser",
     "register_effects": "effect",
+    "register_model_readers": "model reader",
 }
 
 

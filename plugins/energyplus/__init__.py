@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import simgap
 
+from .describe import EnergyPlusModelReader
 from .reader import read_energyplus_output
 from .simulator import EnergyPlusSimulator
 
@@ -18,4 +19,9 @@ def register_simulators(register):
     register(EnergyPlusSimulator)
 
 
-__all__ = ["EnergyPlusSimulator", "read_energyplus_output"]
+@simgap.hookimpl
+def register_model_readers(register):
+    register(EnergyPlusModelReader)
+
+
+__all__ = ["EnergyPlusModelReader", "EnergyPlusSimulator", "read_energyplus_output"]
