@@ -38,6 +38,11 @@ def process_counts() -> dict[str, int]:
     return {key: _counts[key] for key in ("extractions", "instantiations", "resets")}
 
 
+def count(event: str) -> None:
+    """Count an instantiation or a reset done by a runtime of another FMI version (fmi3.py)."""
+    _counts[event] += 1
+
+
 class FMIStatusError(Exception):
     """An FMI function returned error or fatal; ``fatal`` means the instance is unusable."""
 
@@ -46,7 +51,7 @@ class FMIStatusError(Exception):
         self.status = status
         self.fatal = status >= 4
         label = _STATUS_LABELS[status] if 0 <= status < len(_STATUS_LABELS) else f"status {status}"
-        where = f" in the step from t={model_time:g} s" if function == "fmi2DoStep" and model_time is not None else (f" at t={model_time:g} s" if model_time is not None else "")
+        where = f" in the step from t={model_time:g} s" if function.endswith("DoStep") and model_time is not None else (f" at t={model_time:g} s" if model_time is not None else "")
         detail = f": {log[-1]}" if log else ""
         super().__init__(f"{function} returned {label}{where}{detail}")
 
@@ -60,7 +65,7 @@ class FMURuntime:
 
         self.digest = digest
         self.fmi_type = fmi_type
-        self.unzip_dir = _extract(digest, fmu_bytes)
+        self.unzip_dir = extract(digest, fmu_bytes)
         self.description = read_model_description(str(self.unzip_dir), validate=False)
         # the FMU's own messages, so a failed run can say in its words what went wrong
         self._log = simgap.FMULog(keep=_LOG_LINES_KEPT)
@@ -133,7 +138,8 @@ def _function(dll, name: str, *argtypes):
     return function
 
 
-def _extract(digest: str, fmu_bytes: bytes) -> Path:
+def extract(digest: str, fmu_bytes: bytes) -> Path:
+    """The folder this process extracted the FMU into (extracting it on the first call)."""
     with _lock:
         folder = _extracted.get(digest)
         if folder is not None and folder.is_dir():
@@ -168,14 +174,15 @@ def prepare_process(libraries: tuple[str, ...], environment: dict[str, str]) -> 
             ) from None
 
 
-def acquire(digest: str, fmu_bytes: bytes, fmi_type: str) -> FMURuntime:
-    """An idle runtime for this FMU, or a new one (extracting the FMU if this process has not)."""
+def acquire(digest: str, fmu_bytes: bytes, fmi_type: str, runtime_class: type | None = None) -> FMURuntime:
+    """An idle runtime for this FMU, or a new one (extracting the FMU if this process has not).
+    ``runtime_class`` builds it: ``FMURuntime`` (FMI 2.0) unless given (``fmi3.FMU3Runtime``)."""
     _forget_parent_state()
     with _lock:
         pool = _idle.get((digest, fmi_type))
         if pool:
             return pool.pop()
-    return FMURuntime(digest, fmu_bytes, fmi_type)
+    return (runtime_class or FMURuntime)(digest, fmu_bytes, fmi_type)
 
 
 def release(runtime: FMURuntime, *, broken: bool = False) -> None:
