@@ -23,14 +23,15 @@ from .errors import (
 # CLI's start-up does before it knows what it needs, then costs no pandas, pydantic or pluggy.
 _LAZY = {
     **dict.fromkeys(
-        ["DiagnosisData", "Effect", "EffectAddition", "EffectParameter", "Metric", "NoOptions", "Optimiser",
-         "PluginContext", "PluginOptions", "Problem", "SimulationCase", "Simulator", "Variable"],
+        ["DiagnosisData", "Effect", "EffectAddition", "EffectParameter", "Metric", "ModelChange", "ModelExport",
+         "NoOptions", "Optimiser", "PluginContext", "PluginOptions", "Problem", "SimulationCase", "Simulator", "Variable"],
         "interfaces",
     ),
     "build_fmu": "fmu_build",
     "FMULog": "fmu_log",
     "hookimpl": "plugin_host",
     "simulate": "resimulate",
+    "export": "model_export",
     **dict.fromkeys(["WeightedOptions", "scalarise", "weight_vector"], "weighting"),
 }
 
@@ -58,7 +59,9 @@ __all__ = [
     "EffectAddition",
     "EffectParameter",
     "Metric",
+    "ModelChange",
     "ModelError",
+    "ModelExport",
     "NoOptions",
     "Optimiser",
     "PluginContext",
@@ -74,6 +77,7 @@ __all__ = [
     "hookimpl",
     "load_run",
     "simulate",
+    "export",
     "__version__",
     "build_fmu",
     "FMULog",

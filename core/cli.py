@@ -266,5 +266,10 @@ from .resimulate import simulate_command  # noqa: E402  (body in simgap.resimula
 main.add_command(simulate_command)
 
 
+from .model_export import export_command  # noqa: E402  (body in simgap.model_export)
+
+main.add_command(export_command)
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()

@@ -130,6 +130,47 @@ class Simulator(ABC):
 
         raise ModelError(f"the '{self.name}' simulator cannot read result files; give a Parquet or CSV table with a 'time' column instead")
 
+    def export(self, values: Mapping[str, float], folder: Path) -> "ModelExport":
+        """Write a copy of the model with ``values`` (tuner name -> value) in place into ``folder``.
+
+        Used by ``simgap export``: the calibrated values written back into the model, exactly
+        as :meth:`simulate` applies them, so that simulating the copy with no tuners gives the
+        run's logged errors. Return what was written and what could not be (with why).
+        Optional: by default a simulator cannot export.
+        """
+        from .errors import ModelError
+
+        raise ModelError(f"the '{self.name}' simulator cannot write calibrated values back into its model (it does not implement export)")
+
+
+@dataclass(frozen=True)
+class ModelChange:
+    """One tuner value written into an exported model, or why it could not be."""
+
+    parameter: str
+    where: str
+    """The place in the model's own terms (``Material 'INSULATION' field conductivity``)."""
+    old: float | str | None
+    new: float | str | None
+    written: bool = True
+    why_not: str = ""
+
+
+@dataclass(frozen=True)
+class ModelExport:
+    """What :meth:`Simulator.export` wrote."""
+
+    files: tuple[Path, ...]
+    changes: tuple[ModelChange, ...]
+    options: Mapping
+    """Simulator options that run the exported model as calibrated with no tuners (the
+    workflow's own options with the model's path replaced, and whatever else it needs)."""
+    fixed_options: Mapping | None = None
+    """Simulator options that give the same values on the original model without the exported
+    file (for instance fixed start values), if the simulator has such an option."""
+    notes: tuple[str, ...] = ()
+    """What a user of the exported model must know (one sentence each)."""
+
 
 # --------------------------------------------------------------------------------------------
 # Metrics

@@ -15,6 +15,7 @@ import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Mapping, Sequence
 
 import simgap
 
@@ -204,6 +205,92 @@ def _field_by_idd_name(schema: dict | None, object_type: str, idd_name: str) -> 
         if entry.get("field_name", "").casefold() == folded:
             return key
     return None
+
+
+# --------------------------------------------------------------------------------------------
+# tuner values into a model, and a model back to a file
+
+TunedFields = Mapping[str, Sequence[tuple[FieldRef, str, "float | None"]]]
+"""Tuner name -> the fields it writes: (field, mode ``set`` or ``scale``, the model's own value
+for ``scale``)."""
+
+
+def apply_values(model: dict, fields: TunedFields, values: Mapping[str, float]) -> list[tuple[str, FieldRef, object, float]]:
+    """Write ``values`` into ``model`` (in place), as every simulation and ``simgap export`` do.
+
+    A ``scale`` field gets value × the model's own value. Returns (tuner, field, old, new) for
+    every field written. A mapped tuner left out of ``values`` keeps the model's own value.
+    """
+    written = []
+    for name, value in values.items():
+        entries = fields.get(name)
+        if entries is None:
+            raise simgap.ModelError(
+                f"{name!r} is not a tuner parameter of this EnergyPlus model; known: " + ", ".join(fields)
+            )
+        for ref, mode, original in entries:
+            new = float(value) * original if mode == "scale" else float(value)
+            try:
+                old = ref.get(model)
+            except (KeyError, IndexError):
+                old = None
+            ref.set(model, new)
+            written.append((name, ref, old, new))
+    return written
+
+
+def write_model(model: dict, path: Path, executable: Path | None = None, *, readable: bool = False) -> None:
+    """Write ``model`` as epJSON, or as IDF when ``path`` ends in ``.idf`` (EnergyPlus converts it).
+
+    EnergyPlus converts epJSON to IDF only for its own version: a model of another version is
+    converted under the executable's version, and the model's own version is put back in the
+    IDF's Version object (the only field that differs), so the IDF is the model as it was.
+    """
+    if path.suffix.lower() != ".idf":
+        path.write_text(json.dumps(model, indent=1 if readable else None), encoding="utf-8")
+        return
+    if executable is None:
+        raise simgap.ModelError(f"{path.name}: writing an IDF needs the energyplus executable")
+    own_version = _version(model)
+    tool_version = executable_version(executable)
+    workdir = Path(tempfile.mkdtemp(prefix="simgap-eplus-write-"))
+    try:
+        as_tool = dict(model)
+        if own_version is not None:
+            as_tool["Version"] = {name: {**obj, "version_identifier": tool_version} for name, obj in model["Version"].items()}
+        source = workdir / "model.epJSON"
+        source.write_text(json.dumps(as_tool), encoding="utf-8")
+        result = subprocess.run(
+            [str(executable), "--convert-only", "--output-directory", str(workdir), str(source)],
+            capture_output=True, text=True, timeout=120,
+        )
+        converted = workdir / "model.idf"
+        if result.returncode != 0 or not converted.is_file():
+            detail = last_errors(workdir / "eplusout.err") or result.stderr.strip()[-300:] or "no IDF written"
+            raise simgap.ModelError(f"{path.name}: EnergyPlus could not write the model as IDF: {detail}")
+        text = converted.read_text(encoding="utf-8")
+        if own_version is not None and own_version != tool_version:
+            text, count = re.subn(rf"^(Version,\s*){re.escape(tool_version)};", rf"\g<1>{own_version};", text, flags=re.M)
+            if count != 1:
+                raise simgap.ModelError(f"{path.name}: cannot put the model's version {own_version} back into the IDF")
+        path.write_text(text, encoding="utf-8")
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _version(model: dict) -> str | None:
+    for obj in model.get("Version", {}).values():
+        return str(obj.get("version_identifier"))
+    return None
+
+
+def executable_version(executable: Path) -> str:
+    """``major.minor`` of an energyplus executable (``EnergyPlus, Version 25.2.0-...``)."""
+    result = subprocess.run([str(executable), "--version"], capture_output=True, text=True, timeout=60)
+    m = re.search(r"Version\s+(\d+)\.(\d+)", result.stdout + result.stderr)
+    if m is None:
+        raise simgap.ModelError(f"{executable}: cannot tell the EnergyPlus version ({(result.stdout or result.stderr).strip()[:100]!r})")
+    return f"{m.group(1)}.{m.group(2)}"
 
 
 def load_schema(executable: Path) -> dict | None:

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import copy
 import datetime as dt
-import json
 import shutil
 import subprocess
 import tempfile
@@ -35,7 +34,7 @@ from pydantic import Field, field_validator, model_validator
 
 import simgap
 
-from .model import FieldRef, last_errors, load_model, load_schema, resolve_field
+from .model import FieldRef, apply_values, last_errors, load_model, load_schema, resolve_field, write_model
 from .reader import normalise_frequency, read_energyplus_output
 
 # EnergyPlus accepts only time steps that divide an hour evenly (Timestep object, 1-60).
@@ -337,6 +336,25 @@ class EnergyPlusSimulator(simgap.Simulator):
         out.attrs["units"] = {c: u for f in columns for c, u in f.attrs.get("units", {}).items()}
         return out
 
+    def export(self, values: Mapping[str, float], folder: Path) -> simgap.ModelExport:
+        """The user's model (not the run's trimmed copy) with ``values`` written in by the same
+        :func:`apply_values` every simulation uses, as IDF or epJSON like the original, read
+        back once to prove the file holds exactly that model."""
+        executable = self._executable()
+        source = self.context.resolve(self.options.model)
+        model = load_model(source, executable)
+        written = apply_values(model, self.fields, values)
+        suffix = ".epJSON" if source.suffix.lower() == ".epjson" else ".idf"
+        path = Path(folder) / f"{source.stem}-calibrated{suffix}"
+        write_model(model, path, executable, readable=True)
+        if load_model(path, executable) != model:
+            raise simgap.ModelError(f"{path}: the written model does not read back as the calibrated model")
+        changes = tuple(
+            simgap.ModelChange(name, ref.describe(), old, new) for name, ref, old, new in written
+        )
+        options = {**self.options.model_dump(mode="json", exclude_unset=True), "model": str(path)}
+        return simgap.ModelExport(files=(path,), changes=changes, options=options)
+
     def _result_year(self) -> int | None:
         if self.options.run_period is not None:
             return self.options.run_period.start.year
@@ -376,15 +394,7 @@ class EnergyPlusSimulator(simgap.Simulator):
     def _model_for(self, parameters: Mapping[str, float], first: dt.date, last: dt.date) -> dict:
         # A mapped parameter left out of ``parameters`` keeps the model's own value.
         model = copy.deepcopy(self.base_model)
-        for name, value in parameters.items():
-            entries = self.fields.get(name)
-            if entries is None:
-                raise simgap.ModelError(
-                    f"{name!r} is not a tuner parameter of this EnergyPlus model; known: "
-                    + ", ".join(self.fields)
-                )
-            for ref, mode, original in entries:
-                ref.set(model, float(value) * original if mode == "scale" else float(value))
+        apply_values(model, self.fields, parameters)
         template = next(iter(model.get("RunPeriod", {}).values()), {})
         period = {
             k: v
@@ -406,7 +416,7 @@ class EnergyPlusSimulator(simgap.Simulator):
             if timeout <= 0:
                 raise simgap.SimulationTimeout("deadline passed before EnergyPlus started")
         model_file = workdir / "in.epJSON"
-        model_file.write_text(json.dumps(model), encoding="utf-8")
+        write_model(model, model_file)
         weather_file = workdir / "in.epw"
         weather_file.write_bytes(self.weather)
         command = [

@@ -1,9 +1,10 @@
-"""The ``fmu`` simulator: runs an FMI 2.0 FMU (co-simulation or model exchange) through fmpy.
+"""The ``fmu`` simulator: runs an FMI 2.0 or 3.0 FMU (co-simulation or model exchange) through fmpy.
 
 The instance a workflow creates holds the FMU's bytes, so workers need no shared file system;
 each process extracts and instantiates the FMU once, on its first run, and resets the instance
 between runs. Co-simulation runs a step loop of raw FMI calls on preallocated arrays; model
-exchange goes through ``fmpy.simulate_fmu`` with the reused instance.
+exchange goes through ``fmpy.simulate_fmu`` with the reused instance. What FMI 3.0 does
+differently (settability rules, the instance, its co-simulation loop) lives in ``fmi3.py``.
 """
 
 from __future__ import annotations
@@ -21,11 +22,13 @@ from pydantic import Field, model_validator
 
 import simgap
 
+from . import fmi3
 from . import runtime as fmu_runtime
 from . import steploop
 from simgap import build_fmu
 
 _SETTABLE_VARIABILITIES = ("fixed", "tunable")
+_FLOAT64_TYPES = ("Real", "Float64")  # a C double in FMI 2.0 and 3.0: what inputs and outputs can be
 _PREPARED_CASES_KEPT = 8
 
 
@@ -41,6 +44,10 @@ class FMUOptions(simgap.PluginOptions):
     """Integrator for model exchange."""
     start_values: dict[str, float] = Field(default_factory=dict)
     """Fixed values for variables that are not tuned (set before initialisation)."""
+    apply_start_values: bool = False
+    """Set every tunable parameter to its start value in modelDescription.xml before each run.
+    A binary keeps its own compiled defaults, which a consistent FMU's start values repeat; an
+    FMU whose modelDescription.xml was edited afterwards (``simgap export``'s copy) needs this."""
     time_offset: float = 0.0
     """Seconds added to the case's time to get the model's time (e.g. seconds since 1 January)."""
     inputs_as: Literal["instant", "mean_ending", "mean_starting"] = "instant"
@@ -98,7 +105,7 @@ class _PreparedCase:
 
 
 class FMUSimulator(simgap.Simulator):
-    """Runs an FMI 2.0 FMU with fmpy."""
+    """Runs an FMI 2.0 or 3.0 FMU with fmpy."""
 
     name = "fmu"
     Options = FMUOptions
@@ -118,11 +125,17 @@ class FMUSimulator(simgap.Simulator):
         description = _read_description(path)
         _check_platform(path)
         self._fmi_type = _choose_fmi_type(description, options.fmi_type, path)
-        self._variables = _describe_variables(description)
+        self._fmi3 = description.fmiVersion.startswith("3.")
+        self._variables = (fmi3.describe_variables if self._fmi3 else _describe_variables)(description)
         self._references = {
-            v.name: _Reference(int(v.valueReference), v.type) for v in description.modelVariables
+            v.name: _Reference(int(v.valueReference), fmi3.reference_type(v) if self._fmi3 else v.type)
+            for v in description.modelVariables
         }
+        # FMI 3.0: why a variable cannot take a start value ('' where it can)
+        self._start_value_refusals = {v.name: fmi3.why_no_start_value(v) for v in description.modelVariables} if self._fmi3 else {}
         self._check_start_values()
+        described = {v.name: v.start for v in self._variables.values() if v.settable and v.start is not None}
+        self._fixed_values = {**(described if options.apply_start_values else {}), **options.start_values}
 
     # ---------------------------------------------------------------------------------------
 
@@ -138,7 +151,7 @@ class FMUSimulator(simgap.Simulator):
         self._check_parameters(parameters)
         fmu_runtime.prepare_process(self._libraries, self._environment)  # a worker's first run loads them
         try:
-            runtime = fmu_runtime.acquire(self._digest, self._fmu_bytes, self._fmi_type)
+            runtime = fmu_runtime.acquire(self._digest, self._fmu_bytes, self._fmi_type, fmi3.FMU3Runtime if self._fmi3 else None)
         except Exception as exc:
             raise simgap.SimulationFailed(
                 f"cannot load the FMU {self.fmu_path.name}: {_one_line(exc)}{_missing_library_hint(exc)}"
@@ -146,7 +159,8 @@ class FMUSimulator(simgap.Simulator):
         broken = False
         try:
             if self._fmi_type == "CoSimulation":
-                return self._simulate_cs(runtime, parameters, case, deadline)
+                simulate_cs = self._simulate_cs3 if self._fmi3 else self._simulate_cs
+                return simulate_cs(runtime, parameters, case, deadline)
             return self._simulate_me(runtime, parameters, case, deadline)
         except (simgap.SimulationFailed, simgap.SimgapError):
             raise
@@ -166,6 +180,14 @@ class FMUSimulator(simgap.Simulator):
     def close(self) -> None:
         fmu_runtime.discard(self._digest)
 
+    def export(self, values: Mapping[str, float], folder: Path) -> simgap.ModelExport:
+        """A copy of the FMU whose modelDescription.xml start values carry ``values`` (where the
+        FMI standard allows it), and the options that fix them on the original FMU."""
+        from .export import export_fmu
+
+        self._check_parameters(values)
+        return export_fmu(self, values, Path(folder))
+
     # ---------------------------------------------------------------------------------------
     # co-simulation
 
@@ -178,7 +200,7 @@ class FMUSimulator(simgap.Simulator):
             "fmi2SetupExperiment",
             fmi["fmi2SetupExperiment"](component, 0, 0.0, prepared.model_start, 1, prepared.model_stop),
         )
-        self._set_values(rt, self.options.start_values)
+        self._set_values(rt, self._fixed_values)
         self._set_values(rt, parameters)
         rt.check("fmi2EnterInitializationMode", fmi["fmi2EnterInitializationMode"](component))
         inputs = prepared.input_values
@@ -198,6 +220,16 @@ class FMUSimulator(simgap.Simulator):
         row_out = outputs.ctypes.data + n * outputs.strides[0]
         rt.check("fmi2GetReal", rt.get_real(component, prepared.output_vr.ctypes.data, outputs.shape[1], row_out), prepared.model_stop)
         rt.check("fmi2Terminate", fmi["fmi2Terminate"](component), prepared.model_stop)
+        return self._aligned_outputs(prepared, case)
+
+    def _simulate_cs3(self, rt, parameters, case, deadline) -> dict[str, np.ndarray]:
+        prepared = self._prepare_case(rt, case)
+
+        def set_start_values():
+            self._set_values(rt, self._fixed_values)
+            self._set_values(rt, parameters)
+
+        fmi3.simulate_co_simulation(rt, prepared, set_start_values, deadline)
         return self._aligned_outputs(prepared, case)
 
     def _prepare_case(self, rt, case: simgap.SimulationCase) -> _PreparedCase:
@@ -304,7 +336,7 @@ class FMUSimulator(simgap.Simulator):
             output_interval=step,
             record_events=False,
             fmi_type="ModelExchange",
-            start_values={**self.options.start_values, **parameters},
+            start_values={**self._fixed_values, **parameters},
             input=signals,
             output=list(case.outputs),
             step_finished=before_deadline,
@@ -340,6 +372,9 @@ class FMUSimulator(simgap.Simulator):
     def _set_values(self, rt, values: Mapping[str, float]) -> None:
         if not values:
             return
+        if self._fmi3:
+            fmi3.set_values(rt, fmi3.typed_values(self._references, values))
+            return
         real = [(self._references[n].value_reference, float(v)) for n, v in values.items() if self._references[n].type == "Real"]
         if real:
             vr = np.array([r for r, _ in real], dtype=np.uint32)
@@ -369,6 +404,11 @@ class FMUSimulator(simgap.Simulator):
             if variable is None:
                 raise simgap.ModelError(f"{where}: {self.fmu_path.name} has no variable '{name}'")
             reference = self._references[name]
+            if self._fmi3:
+                why = self._start_value_refusals[name]
+                if why:
+                    raise simgap.ModelError(f"{where}: the variable cannot be given a start value ({why})")
+                continue
             if reference.type not in ("Real", "Integer", "Enumeration", "Boolean"):
                 raise simgap.ModelError(f"{where}: variables of type {reference.type} cannot be given a value")
             if not (variable.settable or variable.kind == "input"):
@@ -378,9 +418,9 @@ class FMUSimulator(simgap.Simulator):
         variable = self._variables.get(name)
         if variable is None:
             raise simgap.ModelError(f"{self.fmu_path.name}: the model has no input '{name}'")
-        if variable.kind != "input" or self._references[name].type != "Real":
+        if variable.kind != "input" or self._references[name].type not in _FLOAT64_TYPES:
             raise simgap.ModelError(
-                f"{self.fmu_path.name}: '{name}' is not a Real input of the model "
+                f"{self.fmu_path.name}: '{name}' is not a {self._float64} input of the model "
                 f"(it is a {self._references[name].type} {variable.kind}), so no series can drive it"
             )
         return self._references[name].value_reference
@@ -389,9 +429,14 @@ class FMUSimulator(simgap.Simulator):
         reference = self._references.get(name)
         if reference is None:
             raise simgap.ModelError(f"{self.fmu_path.name}: the model has no variable '{name}' to record")
-        if reference.type != "Real":
-            raise simgap.ModelError(f"{self.fmu_path.name}: '{name}' is a {reference.type} variable; only Real variables can be compared with measurements")
+        if reference.type not in _FLOAT64_TYPES:
+            raise simgap.ModelError(f"{self.fmu_path.name}: '{name}' is a {reference.type} variable; only {self._float64} variables can be compared with measurements")
         return reference.value_reference
+
+    @property
+    def _float64(self) -> str:
+        """The FMI version's name for a double: what inputs and outputs must be."""
+        return "Float64" if self._fmi3 else "Real"
 
 
 # -------------------------------------------------------------------------------------------
@@ -435,9 +480,9 @@ def _read_description(path: Path):
         description = read_model_description(str(path), validate=False)
     except Exception as exc:
         raise simgap.ModelError(f"{path}: cannot read modelDescription.xml: {_one_line(exc)}") from None
-    if description.fmiVersion != "2.0":
+    if description.fmiVersion != "2.0" and not description.fmiVersion.startswith("3."):
         raise simgap.ModelError(
-            f"{path}: FMI version {description.fmiVersion}; the fmu simulator runs FMI 2.0 FMUs"
+            f"{path}: FMI version {description.fmiVersion}; the fmu simulator runs FMI 2.0 and 3.0 FMUs"
         )
     return description
 
