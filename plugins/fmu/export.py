@@ -1,8 +1,8 @@
 """Calibrated values into an FMU: a copy whose modelDescription.xml carries them as start values.
 
-FMI 2.0 (section 2.2.7) lets an importer change the start value of a variable with causality
-``parameter``, variability ``fixed`` or ``tunable`` and initial ``exact`` (the only initial a
-parameter may have); the copy changes exactly those and says why any other stayed. The FMU's
+FMI 2.0 (section 2.2.7) and 3.0 let an importer change the start value of a variable with
+causality ``parameter``, variability ``fixed`` or ``tunable`` and initial ``exact`` (the only
+initial a parameter may have); the copy changes exactly those and says why any other stayed. The FMU's
 binary is not touched: it keeps its compiled defaults, so an importer must apply the description's
 start values (simgap: ``apply_start_values: true``; fmpy: ``apply_default_start_values=True``;
 most tools' FMU import blocks do by default).
@@ -46,7 +46,9 @@ def export_fmu(simulator, values: Mapping[str, float], folder: Path) -> simgap.M
     described = {v.name: v for v in read_model_description(simulator.fmu_path, validate=False).modelVariables}
     # comments kept: the copy should differ from the original in start values only
     tree = ElementTree.fromstring(description_bytes, parser=ElementTree.XMLParser(target=ElementTree.TreeBuilder(insert_comments=True)))
-    elements = {e.get("name"): e for e in tree.iterfind("ModelVariables/ScalarVariable")}
+    fmi3 = tree.get("fmiVersion", "").startswith("3.")
+    # FMI 2.0: <ScalarVariable name=..><Real start=../>; FMI 3.0: <Float64 name=.. start=../>
+    elements = {e.get("name"): (e if fmi3 else e[0]) for e in tree.iterfind("ModelVariables/*") if e.get("name")}
 
     changes = []
     for name, value in values.items():
@@ -56,8 +58,7 @@ def export_fmu(simulator, values: Mapping[str, float], folder: Path) -> simgap.M
         if why:
             changes.append(simgap.ModelChange(name, where, variable.start, float(value), written=False, why_not=why))
             continue
-        type_element = elements[name][0]  # <Real>, <Integer>, ... holds the start attribute
-        type_element.set("start", repr(float(value)))  # repr: the shortest text that reads back as the same double
+        elements[name].set("start", repr(float(value)))  # repr: the shortest text that reads back as the same double
         changes.append(simgap.ModelChange(name, where, _number(variable.start), float(value)))
 
     new_description = ElementTree.tostring(tree, xml_declaration=True, encoding="UTF-8")
