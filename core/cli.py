@@ -228,6 +228,30 @@ def _markdown(table) -> str:
 
 
 @main.command()
+@click.argument("model", type=click.Path(path_type=Path))
+@click.argument("data", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), default=Path("workflow.yaml"), show_default=True,
+              help="workflow file to write")
+@click.option("--library", "libraries", multiple=True, type=click.Path(path_type=Path), metavar="PATH",
+              help="a shared library the FMU needs but does not ship (repeatable): written under simulator.options.libraries")
+@click.option("--force", is_flag=True, help="overwrite OUTPUT if it exists")
+def init(model, data, output, libraries, force):
+    """Write a workflow scaffold for MODEL (an FMU) and DATA (CSV/Parquet): columns matched to
+    the model's inputs and outputs, tuners with bounds, targets, a 60/40 split and a budget."""
+    from .scaffold import write_scaffold
+
+    result = write_scaffold(model, data, output, list(libraries), force=force)
+    for m in result.matches:
+        click.echo(f"  {m.column.name} -> {m.variable.causality} {m.variable.name}  ({m.score:.2f})")
+    if result.unmatched:
+        click.echo(f"  not matched: {', '.join(result.unmatched)}")
+    click.echo(f"  tuners: {', '.join(result.tuners)}")
+    for note in result.notes:
+        click.echo(f"note: {note}", err=True)
+    click.echo(f"wrote {output}: check the guesses in its comments, then 'simgap check {output}'")
+
+
+@main.command()
 def plugins():
     """List the installed plugins and what each registers."""
     from .plugin_host import KINDS, get_registry
