@@ -38,6 +38,9 @@ def register_simulators(register):
     (an extracted, instantiated FMU; a converted model) lazily on the first ``simulate`` in a
     process, keeping it out of the pickled state.
 
+    Optional methods: ``read_outputs`` (``simgap score`` reads the tool's own result files) and
+    ``export`` (``simgap export`` writes calibrated values back into a copy of the model).
+
     A simulator knows nothing of metrics or optimisers.
     """
 
