@@ -290,6 +290,11 @@ from .resimulate import simulate_command  # noqa: E402  (body in simgap.resimula
 main.add_command(simulate_command)
 
 
+from .report import report_command  # noqa: E402  (body in simgap.report; no heavy import until it runs)
+
+main.add_command(report_command)
+
+
 from .model_export import export_command  # noqa: E402  (body in simgap.model_export)
 
 main.add_command(export_command)

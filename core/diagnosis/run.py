@@ -203,6 +203,10 @@ def diagnose(
     say(verdict(candidates))
     timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}
     write(ctx, where, candidates, shrink, folder, timing, chain)
+    if folder.resolve() == (ctx.run.dir / "diagnosis").resolve():  # the run's report.html shows it
+        from ..report import write_report
+
+        write_report(ctx.run.dir)
     return {
         "chain": chain,
         "report": folder / "report.md",
