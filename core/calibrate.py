@@ -343,9 +343,10 @@ def _calibrate(
         summary["resumed"] = {"evaluations_from_log": replayed, "evaluations_now": len(store) - replayed}
     _trust(prepared, summary, frame, pareto, series, run_dir, probe)
     store.write_summary(summary)
+    from .display_units import display_units
     from .plots import write_plots  # matplotlib is slow to import; only when needed
 
-    write_plots(run_dir, frame, pareto, store.objective_columns, featured, series)
+    write_plots(run_dir, frame, pareto, store.objective_columns, featured, series, display_units(prepared))
     return run_dir
 
 
