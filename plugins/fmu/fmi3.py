@@ -103,13 +103,13 @@ def why_no_start_value(v) -> str:
     causality = v.causality or "local"
     variability = v.variability or "continuous"
     if causality == "independent":
-        return "causality 'independent' (it is the model's time)"
+        return "causality 'independent': it is the model's time"
     if causality == "structuralParameter":
         return why_not_tunable(v)
     if variability == "constant":
         return "variability 'constant'"
     if causality != "input" and v.initial not in ("exact", "approx"):
-        return f"initial '{v.initial or 'calculated'}' (the model computes its start value)"
+        return f"initial '{v.initial or 'calculated'}': the model computes its value"
     if getattr(v, "dimensions", None):
         return f"an array of {v.type}"
     if v.type not in VALUE_TYPES:
