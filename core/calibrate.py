@@ -21,7 +21,7 @@ import pandas as pd
 from .config import load_workflow, parse_duration
 from .errors import SimgapError
 from .evaluation import STATUS_OK
-from .executor import DaskExecutor, probe_scheduler
+from .local_executor import executor_for_workflow
 from .failures import summarise_failures
 from .front import knee_index, non_dominated
 from .results import (
@@ -201,7 +201,7 @@ def _calibrate(
     workflow_text: str | None = None,
     run_info: dict | None = None,
     resume_dir: Path | None = None,
-    executor: DaskExecutor | None = None,
+    executor=None,
 ) -> Path:
     """Run the workflow's calibration; returns the run directory.
 
@@ -218,8 +218,10 @@ def _calibrate(
     log_notes: list[str] = []
     own_executor = executor is None
     if own_executor:
-        executor = DaskExecutor.for_workflow(prepared.wf, workers=workers, scheduler=scheduler)
+        executor = executor_for_workflow(prepared.wf, workers=workers, scheduler=scheduler)
         if executor.scheduler:  # an unreachable scheduler stops the run before it leaves a folder
+            from .executor import probe_scheduler
+
             probe_scheduler(executor.scheduler, executor.security)
     if resume_dir is not None:
         run_dir = Path(resume_dir)
@@ -379,7 +381,7 @@ def _featured(pareto: pd.DataFrame, store: RunStore) -> dict[str, int]:
     return out
 
 
-def _validate(prepared: Prepared, executor: DaskExecutor, pareto: pd.DataFrame, featured: dict[str, int], next_id: int):
+def _validate(prepared: Prepared, executor, pareto: pd.DataFrame, featured: dict[str, int], next_id: int):
     """Score every front solution on the validation segments; keep series of featured ones."""
     names = prepared.space.names
     values = pareto[[PARAM + n for n in names]].to_numpy(dtype=float)

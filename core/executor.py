@@ -12,7 +12,7 @@ disappears, each cost at most the one evaluation that caused it.
   (:func:`evaluate_isolated`). The child that dies names the culprit (``crashed: worker process
   died (SIGSEGV)``), the one that overruns its time is ``timeout``, the others succeed. Each
   evaluation is isolated once; a crashing parameter set is never retried endlessly.
-- With no worker at all for :data:`NO_WORKER_LIMIT_S`, the run stops with a message; everything
+- With no worker at all for :data:`simgap.isolation.NO_WORKER_LIMIT_S`, the run stops with a message; everything
   finished is logged already and ``--resume`` carries on.
 """
 
@@ -22,9 +22,6 @@ import ipaddress
 import logging
 import math
 import os
-import pickle
-import select
-import signal
 import time
 from concurrent.futures import CancelledError
 from typing import Callable
@@ -32,24 +29,19 @@ from urllib.parse import urlparse
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
+from . import isolation
 from .errors import SimgapError
-from .evaluation import STATUS_FAILED, EvaluationSetup, evaluate, objective_vector
+from .evaluation import EvaluationSetup, evaluate
+from .isolation import ISOLATION_TIME_S, ISOLATION_TRIES, evaluate_forked  # noqa: F401  (re-exported)
+from .isolation import failed_row as _failed_row
+from .isolation import one_line as _one_line
 
 log = logging.getLogger(__name__)
 
-# A task that has been executing longer than (evaluations × timeout × factor + grace) is stuck.
-HARD_TIMEOUT_FACTOR = 1.5
-HARD_TIMEOUT_GRACE_S = 10.0
+# Time limits of the fault model (stuck tasks, isolation, no worker at all): simgap.isolation.
 POLL_S = 0.5
 TASK_SECONDS = 0.25
-NO_WORKER_LIMIT_S = 120.0
-"""How long a run waits with no worker at all before it stops (local workers restart in seconds)."""
 RESTART_TIMEOUT_S = 120.0
-ISOLATION_TRIES = 3
-"""An isolated evaluation whose own task is lost (its worker killed from outside) is tried again
-this often before it is logged as lost."""
-ISOLATION_TIME_S = 60.0
-"""Time an isolated evaluation may take when the workflow sets no timeout."""
 
 
 # -- on the workers ---------------------------------------------------------------------------
@@ -88,81 +80,6 @@ def evaluate_shared(token: str, jobs: list[tuple[int, dict[str, float]]], keep_s
 def evaluate_isolated(token: str, eval_id: int, params: dict[str, float], keep_series: bool, limit_s: float) -> dict:
     """The dask task that runs one evaluation in a forked child (:func:`evaluate_forked`)."""
     return evaluate_forked(_installed(token), eval_id, params, keep_series, limit_s)
-
-
-def evaluate_forked(setup: EvaluationSetup, eval_id: int, params: dict[str, float], keep_series: bool, limit_s: float) -> dict:
-    """One evaluation in a forked child process: a crash kills the child, not this process, and is
-    reported with its signal; a child that overruns ``limit_s`` is killed and reported as a timeout."""
-    if not hasattr(os, "fork"):  # no fork (Windows): run it here and let a crash take the worker
-        return evaluate(setup, eval_id, params, keep_series)
-    read_fd, write_fd = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # the child: evaluate, send the row, leave without running any cleanup
-        code = 0
-        try:
-            os.close(read_fd)
-            import faulthandler
-
-            faulthandler.disable()  # the parent reports the crash; a stack dump here is noise
-            payload = pickle.dumps(evaluate(setup, eval_id, params, keep_series), protocol=pickle.HIGHEST_PROTOCOL)
-            view = memoryview(payload)
-            while view:
-                view = view[os.write(write_fd, view):]
-        except BaseException:  # noqa: BLE001 — the parent reports a child that sent nothing
-            code = 1
-        finally:
-            os._exit(code)
-    os.close(write_fd)
-    parts, timed_out = [], False
-    deadline = time.monotonic() + limit_s
-    try:
-        while True:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
-                timed_out = True
-                os.kill(pid, signal.SIGKILL)
-                break
-            ready, _, _ = select.select([read_fd], [], [], min(remaining, 1.0))
-            if ready:
-                chunk = os.read(read_fd, 1 << 20)
-                if not chunk:
-                    break
-                parts.append(chunk)
-    finally:
-        os.close(read_fd)
-        _, status = os.waitpid(pid, 0)
-    if timed_out:
-        return _failed_row(setup, eval_id, f"timeout: the model did not return within {limit_s:.0f} s (stuck inside a step)", params)
-    if os.WIFSIGNALED(status):
-        return _failed_row(setup, eval_id, f"crashed: worker process died ({_signal_name(os.WTERMSIG(status))})", params)
-    if not parts:
-        return _failed_row(setup, eval_id, f"crashed: worker process exited with code {os.WEXITSTATUS(status)}", params)
-    return pickle.loads(b"".join(parts))
-
-
-def _signal_name(number: int) -> str:
-    try:
-        name = signal.Signals(number).name
-    except ValueError:
-        return f"signal {number}"
-    return f"{name}, killed from outside or out of memory" if number == signal.SIGKILL else name
-
-
-def _failed_row(setup: EvaluationSetup, eval_id: int, message: str, params: dict | None = None) -> dict:
-    if params is not None and message.startswith("crashed"):
-        shown = ", ".join(f"{k}={v:.6g}" for k, v in params.items())
-        message = f"{message} at {shown}"
-    return {
-        "eval_id": eval_id,
-        "status": STATUS_FAILED,
-        "error": message,
-        "errors": None,
-        "objectives": objective_vector(setup, None),
-        "sim_time_s": math.nan,
-        "metric_time_s": math.nan,
-        "wall_time_s": math.nan,
-        "worker": None,
-    }
 
 
 def _executing_keys(dask_worker) -> list:
@@ -357,7 +274,7 @@ class DaskExecutor:
             self._seconds_per_evaluation = latest if previous is None else 0.7 * previous + 0.3 * latest
 
     def _isolation_limit(self, setup: EvaluationSetup) -> float:
-        return (setup.timeout_s or ISOLATION_TIME_S) * HARD_TIMEOUT_FACTOR + 5.0
+        return isolation.isolation_limit_s(setup)
 
     def run(
         self,
@@ -438,11 +355,11 @@ class DaskExecutor:
             if pending:
                 if self._live_workers() == 0:
                     workerless_since = workerless_since or time.monotonic()
-                    if time.monotonic() - workerless_since > NO_WORKER_LIMIT_S:
+                    if time.monotonic() - workerless_since > isolation.NO_WORKER_LIMIT_S:
                         for fut in pending:
                             fut.cancel()
                         raise SimgapError(
-                            f"no dask worker for {NO_WORKER_LIMIT_S:.0f} s; {len(rows)} of {len(jobs)} evaluations of this "
+                            f"no dask worker for {isolation.NO_WORKER_LIMIT_S:.0f} s; {len(rows)} of {len(jobs)} evaluations of this "
                             "batch are logged; start workers and continue with 'simgap run --resume DIR'"
                         )
                 else:
@@ -459,7 +376,7 @@ class DaskExecutor:
         now = time.monotonic()
 
         def limit(chunk):
-            return len(chunk) * setup.timeout_s * HARD_TIMEOUT_FACTOR + HARD_TIMEOUT_GRACE_S
+            return isolation.hard_limit_s(setup, len(chunk))
 
         suspects = [f for f, (kind, chunk, since, _) in submitted.items() if kind == "chunk" and now - since > limit(chunk)]
         if not suspects:
@@ -492,7 +409,3 @@ class DaskExecutor:
     def _failed(setup: EvaluationSetup, eval_id: int, message: str) -> dict:
         return _failed_row(setup, eval_id, message)
 
-
-def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split()) or type(exc).__name__
-    return f"{type(exc).__name__}: {text}" if text != type(exc).__name__ else text

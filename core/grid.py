@@ -219,10 +219,10 @@ def run_grid(wf: LoadedWorkflow, *, workers=None, scheduler=None, output=None, p
 
 
 def _executor(wf: LoadedWorkflow, workers, scheduler):
-    """One cluster for every cell and the scoring: workers keep their models and compiled code."""
-    from .executor import DaskExecutor
+    """One pool of workers for every cell and the scoring: workers keep their models and compiled code."""
+    from .local_executor import executor_for_workflow
 
-    return DaskExecutor.for_workflow(wf, workers=workers, scheduler=scheduler)
+    return executor_for_workflow(wf, workers=workers, scheduler=scheduler)
 
 
 def resume_grid(grid_dir: str | Path, *, workers=None, scheduler=None, progress=None) -> Path:

@@ -28,8 +28,8 @@ import pandas as pd
 
 from .errors import SimgapError
 from .evaluation import STATUS_OK
-from .executor import DaskExecutor
 from .results import ERROR, EVALUATIONS, PARAM, RunStore, read_log
+from .local_executor import executor_for_workflow
 from .setup import Prepared
 
 INFLUENCE_SHARE = 0.05
@@ -103,7 +103,7 @@ def run(
     n: int = 10,
     seed: int = 1,
     out_dir: Path | None = None,
-    executor: DaskExecutor | None = None,
+    executor=None,
     workers: int | None = None,
 ) -> Result:
     """Sample, evaluate on dask (resuming a log already in ``out_dir``), analyse."""
@@ -130,7 +130,7 @@ def run(
     by_id = dict(jobs)
     context = (
         contextlib.nullcontext(executor) if executor is not None
-        else DaskExecutor.for_workflow(prepared.wf, workers=workers)
+        else executor_for_workflow(prepared.wf, workers=workers)
     )
 
     def on_done(rows):

@@ -8,7 +8,7 @@ import math
 
 from .errors import SimgapError
 from .evaluation import STATUS_OK
-from .executor import ISOLATION_TIME_S, evaluate_forked
+from .isolation import ISOLATION_TIME_S, evaluate_forked
 from .setup import Prepared
 
 

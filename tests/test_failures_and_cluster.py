@@ -116,9 +116,9 @@ def test_unreachable_scheduler_is_a_clear_error(quickstart_text, write_workflow)
 def test_model_stuck_inside_a_step_is_failed_and_its_worker_restarted(quickstart_text, write_workflow, monkeypatch):
     """A 1e-9 s internal sub-step makes one doStep last for hours: the deadline checked between
     steps cannot help, so the executor fails the task and restarts the worker."""
-    from simgap import executor
+    from simgap import isolation
 
-    monkeypatch.setattr(executor, "HARD_TIMEOUT_GRACE_S", 1.0)
+    monkeypatch.setattr(isolation, "HARD_TIMEOUT_GRACE_S", 1.0)
     text = set_budget(quickstart_text, 4, population=4).replace("timeout: 30s", "timeout: 0.5s\n  batch_size: 2")
     text = text.replace("source: ", "start_values: {dt_internal: 1.0e-9}\n    source: ", 1)
     path = write_workflow(text)

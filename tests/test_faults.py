@@ -84,15 +84,17 @@ def external_cluster(tmp_path):
 
 
 def _worker_processes() -> list[psutil.Process]:
-    """dask worker processes below this test process: started by a nanny with multiprocessing's
-    spawn (a LocalCluster's nannies live in this process, an external `dask worker` is its own)."""
+    """Worker processes below this test process: a local run's `simgap-worker` processes (forked
+    by the run, simgap.local_executor), or dask workers started by a nanny with multiprocessing's
+    spawn (an external `dask worker` is its own process)."""
     found = []
     for p in psutil.Process().children(recursive=True):
         try:
             cmdline = " ".join(p.cmdline())
+            name = p.name()
         except psutil.Error:
             continue
-        if "multiprocessing.spawn" in cmdline and "resource_tracker" not in cmdline:
+        if name == "simgap-worker" or ("multiprocessing.spawn" in cmdline and "resource_tracker" not in cmdline):
             found.append(p)
     return found
 
@@ -160,9 +162,9 @@ def test_crash_abort_and_nan_cost_only_their_own_evaluations(quickstart_text, wr
 
 @pytest.mark.timeout(300)
 def test_a_hang_inside_a_step_is_a_timeout_and_the_rest_succeeds(quickstart_text, write_workflow, monkeypatch):
-    from simgap import executor
+    from simgap import isolation
 
-    monkeypatch.setattr(executor, "HARD_TIMEOUT_GRACE_S", 1.0)
+    monkeypatch.setattr(isolation, "HARD_TIMEOUT_GRACE_S", 1.0)
     regions = {"hang": (0.0, 0.12)}
     path = write_workflow(fault_workflow(quickstart_text, regions, evaluations=16, timeout="2s"))
     started = time.monotonic()
