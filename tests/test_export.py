@@ -136,6 +136,31 @@ def test_fmu_workflow_snippet_reproduces_the_logged_errors_exactly(quickstart_ru
     assert errors == _logged_errors(quickstart_run, 0)
 
 
+def test_a_tuner_of_simulator_around_is_fixed_in_the_snippet_not_the_model(tmp_path):
+    text = absolutise(QUICKSTART.read_text(), QUICKSTART.parent)
+    text = text.replace("  initial:", "  around:\n    - {apply: output_lag, variable: T_zone, tau: tauSensor}\n  initial:", 1)
+    text = text.replace("  - {name: eta_carnot, min: 0.25, max: 0.65}",
+                        "  - {name: eta_carnot, min: 0.25, max: 0.65}\n  - {name: tauSensor, min: 10, max: 3600, scale: log}", 1)
+    workflow = tmp_path / "lagged.yaml"
+    workflow.write_text(re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M))
+    run_dir = _one_evaluation_run(workflow, {**QUICKSTART_VALUES, "tauSensor": 600.0}, tmp_path / "run")
+    result = simgap.export(run_dir, solution=0, output=tmp_path / "export")
+    assert result["verified"] == {"exported model": {"training": 0.0}, "workflow snippet": {"training": 0.0}}
+    lag = next(p for p in result["parameters"] if p["name"] == "tauSensor")
+    assert not lag["written"] and "simulator.around" in lag["why_not"]
+    # the snippet alone, its around entry carrying the value, with no tuner value given at all
+    yaml = YAML()
+    data = yaml.load(workflow.read_text())
+    data["simulator"] = yaml.load((tmp_path / "export" / "workflow_snippet.yaml").read_text())["simulator"]
+    assert data["simulator"]["around"][0]["tau"] == 600.0
+    data["parameters"] = [p for p in data["parameters"] if p["name"] != "tauSensor"]
+    with (tmp_path / "from_snippet.yaml").open("w") as f:
+        yaml.dump(data, f)
+    prepared = prepare(tmp_path / "from_snippet.yaml")
+    row = evaluate(prepared.training, -1, {})
+    assert row["errors"] == _logged_errors(run_dir, 0)
+
+
 # --------------------------------------------------------------------------------------------
 # bad input
 
