@@ -109,6 +109,23 @@ def test_fmu_copy_and_parameter_files(quickstart_run, tmp_path):
         assert all(new.read(n) == old.read(n) for n in old.namelist() if n != "modelDescription.xml")
 
 
+@pytest.mark.parametrize("causality, variability, initial, refused", [
+    ("parameter", "fixed", None, ""),
+    ("parameter", "tunable", "exact", ""),
+    ("calculatedParameter", "fixed", "calculated", "causality 'calculatedParameter'"),
+    ("parameter", "constant", None, "variability 'constant'"),
+    ("parameter", "fixed", "approx", "initial 'approx'"),
+    ("input", "continuous", None, "causality 'input'"),
+])
+def test_fmi_rules_for_changing_a_start_value(causality, variability, initial, refused):
+    from types import SimpleNamespace
+
+    from simgap.plugins.fmu.export import why_start_cannot_change
+
+    why = why_start_cannot_change(SimpleNamespace(causality=causality, variability=variability, initial=initial))
+    assert why.startswith(refused) if refused else why == ""
+
+
 def prepare_fmu_path(run_dir: Path) -> Path:
     return prepare(run_dir / "workflow.yaml").simulator.fmu_path
 
