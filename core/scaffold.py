@@ -424,7 +424,7 @@ def scaffold(model: Path, data: Path, output: Path, libraries: list[Path] = ()) 
 
     table, time_column, time_spec = read_data(data)
     columns, skipped = data_columns(table, time_column)
-    real = [v for v in variables if v.type == "Real"]
+    real = [v for v in variables if v.type in ("Real", "Float64")]  # a double in FMI 2.0 and in FMI 3.0
     inputs = [v for v in real if v.causality == "input"]
     outputs = [v for v in real if v.causality == "output"]
     matches = match_columns(columns, inputs + outputs)
