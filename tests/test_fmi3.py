@@ -1,7 +1,7 @@
 """FMI 3.0: the quickstart zone as an FMI 3.0 FMU (examples/models/quickstart_zone_fmi3), built
 from C like the FMI 2.0 one, gives its FMI 2.0 twin's numbers in co-simulation and model
 exchange, reuses its instance, refuses what FMI 3.0 does not let a run set, is listed by
-`simgap inspect`, and calibrates like the quickstart: the same short run on both FMUs logs the
+`simgap inspect`, gets a working `simgap init` scaffold, and calibrates like the quickstart: the same short run on both FMUs logs the
 same errors and recovers the parameters the data were generated with."""
 
 from __future__ import annotations
@@ -180,6 +180,17 @@ def test_inspect_lists_the_fmi3_fmu(fmi3_fmu):
     info = json.loads(listed.stdout)
     assert info["fmi_version"] == "3.0" and info["variable_count"] == 25
     assert {(v["name"], v["causality"]) for v in info["variables"]} == {("tau_zone", "calculatedParameter"), ("time", "independent")}
+
+
+def test_init_scaffold_for_the_fmi3_fmu_checks(fmi3_fmu, tmp_path):
+    workflow = tmp_path / "workflow.yaml"
+    init = simgap_cli("init", fmi3_fmu, MEASURED, "-o", workflow)
+    assert init.returncode == 0, init.stdout + init.stderr
+    text = workflow.read_text()
+    assert "{name: UA_env," in text and "{name: tau_zone," not in text  # Float64 parameters, calculated ones left out
+    check = simgap_cli("check", workflow)
+    assert check.returncode == 0, check.stdout + check.stderr
+    assert "trial simulation: ok" in check.stdout
 
 
 # -------------------------------------------------------------------------------------------
