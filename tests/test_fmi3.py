@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import sys
 import textwrap
+import time
 import zipfile
 from pathlib import Path
 
@@ -21,6 +22,7 @@ import pytest
 
 import simgap
 from simgap.plugins.fmu import FMUSimulator, build_fmu
+from simgap.plugins.fmu import fmi3
 from simgap.plugins.fmu import runtime as fmu_runtime
 
 REPO = Path(__file__).resolve().parents[1]
@@ -119,6 +121,26 @@ def test_inputs_as_interval_means_and_start_values(cache, measured_case):
     np.testing.assert_array_equal(got["P_el"], expected["P_el"])
     plain = simulator(cache, "quickstart_zone_fmi3").simulate(TRUE_PARAMETERS, measured_case)
     assert not np.array_equal(plain["P_el"], got["P_el"])
+
+
+def test_compiled_step_loop_gives_the_python_loops_outputs(cache, measured_case, monkeypatch):
+    pytest.importorskip("numba")
+    fmi3_sim = simulator(cache, "quickstart_zone_fmi3", step_size=60.0)
+    monkeypatch.setattr(fmi3, "_state", fmi3._LoopState())  # this process starts in the Python loop
+    python = fmi3_sim.simulate(TRUE_PARAMETERS, measured_case)
+    assert not fmi3.compiled_loop_in_use()
+    monkeypatch.setattr(fmi3, "COMPILE_AFTER_SECONDS", 0.0)  # compile at the next run
+    compiled = fmi3_sim.simulate(TRUE_PARAMETERS, measured_case)
+    assert fmi3.compiled_loop_in_use()
+    chunked = fmi3_sim.simulate(TRUE_PARAMETERS, measured_case, deadline=time.monotonic() + 600)  # deadline: in chunks
+    for name in measured_case.outputs:
+        np.testing.assert_array_equal(compiled[name], python[name], err_msg=name)
+        np.testing.assert_array_equal(chunked[name], python[name], err_msg=name)
+    with pytest.raises(simgap.SimulationTimeout, match="deadline passed at model time"):
+        fmi3_sim.simulate(TRUE_PARAMETERS, measured_case, deadline=time.monotonic() - 1)
+    # an FMU error inside the compiled loop names the function, the time and the FMU's message
+    with pytest.raises(simgap.SimulationFailed, match=r"fmi3DoStep returned error in the step from t=.*zone temperature left the physical range"):
+        fmi3_sim.simulate({**TRUE_PARAMETERS, "C_zone": 1.0e3}, measured_case)
 
 
 # -------------------------------------------------------------------------------------------

@@ -12,10 +12,10 @@ exchange through ``fmpy.simulate_fmu`` with a reused instance. This module holds
 - the instance: ``fmi3Instantiate{CoSimulation,ModelExchange}`` with a plain log callback
   (FMI 3.0 messages are formatted by the FMU, so no varargs proxy is needed), ``fmi3Reset``
   between runs, pooled by ``runtime`` like the FMI 2.0 one;
-- the co-simulation loop: ``fmi3SetFloat64``, ``fmi3GetFloat64``, ``fmi3DoStep`` over ctypes on
-  the prepared arrays. It stays in Python: the numba loop of ``steploop`` calls FMI 2.0
-  signatures (``fmi3DoStep`` has four more result pointers, the getters and setters one more
-  count), so an FMI 3.0 run costs about 3 µs of Python per step.
+- the co-simulation loop: ``fmi3SetFloat64``, ``fmi3GetFloat64``, ``fmi3DoStep`` on the prepared
+  arrays, as ``steploop`` does for FMI 2.0: over ctypes first (a few µs per step), then, once a
+  process has spent ``steploop.COMPILE_AFTER_SECONDS`` in that loop, a numba loop calling the
+  FMU by address (``fmi3_steploop_compiled``, FMI 3.0's signatures; about 0.05 µs per step).
 """
 
 from __future__ import annotations
@@ -23,7 +23,9 @@ from __future__ import annotations
 import collections
 import ctypes
 import math
+import threading
 import time
+import warnings
 from typing import Callable, Mapping
 
 import numpy as np
@@ -31,6 +33,7 @@ import numpy as np
 import simgap
 
 from . import runtime as fmu_runtime
+from .steploop import CHUNK_SECONDS, COMPILE_AFTER_SECONDS
 
 FLOAT64 = "Float64"
 FLOATS = ("Float64", "Float32")
@@ -169,8 +172,20 @@ class FMU3Runtime:
         self.get_float64 = _function(dll, "fmi3GetFloat64", address, address, size, address, size)
         self.do_step = _function(dll, "fmi3DoStep", address, double, double, boolean, address, address, address, address)
         # doStep's results, written by the FMU into these on every step
-        self.step_flags = (ctypes.c_bool * 3)()  # eventHandlingNeeded, terminateSimulation, earlyReturn
-        self.last_successful_time = ctypes.c_double()
+        self.step_flags = np.zeros(3, dtype=np.uint8)  # eventHandlingNeeded, terminateSimulation, earlyReturn
+        self.last_successful_time = np.zeros(1)
+        self.chunk_steps = 1000  # adapted by the step loop to about CHUNK_SECONDS
+        self._function_addresses = None
+
+    def function_addresses(self) -> tuple[int, int, int]:
+        """fmi3SetFloat64, fmi3GetFloat64, fmi3DoStep as plain integers, for the compiled loop."""
+        if self._function_addresses is None:
+            dll = self.fmu.dll
+            self._function_addresses = tuple(
+                ctypes.cast(getattr(dll, name), ctypes.c_void_p).value
+                for name in ("fmi3SetFloat64", "fmi3GetFloat64", "fmi3DoStep")
+            )
+        return self._function_addresses
 
     def _log_message(self, environment, status, category, message) -> None:
         try:  # never let an exception cross back into C
@@ -264,8 +279,41 @@ def simulate_co_simulation(rt: FMU3Runtime, prepared, set_start_values: Callable
     rt.call("fmi3Terminate", model_time=prepared.model_stop)
 
 
+_MAX_CHUNK = 1 << 20
+_FUNCTION_NAMES = {1: "fmi3SetFloat64", 2: "fmi3GetFloat64", 3: "fmi3DoStep"}
+
+
+class _LoopState:
+    def __init__(self):
+        self.python_seconds = 0.0
+        self.compiled = None  # the numba loop, once built
+        self.failed = False  # numba missing or the compilation failed: stay in Python
+        self.lock = threading.Lock()
+
+
+_state = _LoopState()
+
+
+def compiled_loop_in_use() -> bool:
+    """True once this process runs FMI 3.0 co-simulation in the numba loop."""
+    return _state.compiled is not None
+
+
 def _step_loop(rt: FMU3Runtime, prepared, deadline: float) -> None:
-    # The hot loop: a few ints and floats per step, no other objects.
+    """Steps 0..n-1, filling ``prepared.output_buffer`` rows 0..n-1."""
+    loop = _compiled_loop()
+    if loop is not None:
+        _run_compiled(loop, rt, prepared, deadline)
+        return
+    started = time.perf_counter()
+    try:
+        _python_loop(rt, prepared, deadline)
+    finally:
+        _state.python_seconds += time.perf_counter() - started
+
+
+def _python_loop(rt: FMU3Runtime, prepared, deadline: float) -> None:
+    # The hot loop in Python: a few ints and floats per step, no other objects.
     set_float64, get_float64, do_step = rt.set_float64, rt.get_float64, rt.do_step
     component = rt.component
     inputs, outputs = prepared.input_values, prepared.output_buffer
@@ -273,9 +321,10 @@ def _step_loop(rt: FMU3Runtime, prepared, deadline: float) -> None:
     input_vr, output_vr = prepared.input_vr.ctypes.data, prepared.output_vr.ctypes.data
     in_base, in_stride = inputs.ctypes.data, inputs.strides[0]
     out_base, out_stride = outputs.ctypes.data, outputs.strides[0]
-    flags = ctypes.addressof(rt.step_flags)
-    event, terminate, early = flags, flags + 1, flags + 2
-    last_time = ctypes.addressof(rt.last_successful_time)
+    flags = rt.step_flags
+    event = flags.ctypes.data
+    terminate, early = event + 1, event + 2
+    last_time = rt.last_successful_time.ctypes.data
     t0, h, n = prepared.model_start, prepared.step_size, prepared.n_steps
     monotonic = time.monotonic
     for k in range(n):
@@ -290,14 +339,74 @@ def _step_loop(rt: FMU3Runtime, prepared, deadline: float) -> None:
         status = do_step(component, t, h if k < n - 1 else prepared.last_step_size, True, event, terminate, early, last_time)
         if status > 1:
             rt.check("fmi3DoStep", status, t)
-        if rt.step_flags[1]:
-            log = f": {rt.log[-1]}" if rt.log else ""
-            raise simgap.SimulationFailed(
-                f"the FMU ended the simulation (fmi3DoStep: terminateSimulation) at t={rt.last_successful_time.value:g} s{log}"
-            )
+        if flags[1]:
+            _terminated(rt)
         if monotonic() > deadline:
-            model_time = min(t + h, prepared.model_stop)
-            raise simgap.SimulationTimeout(f"deadline passed at model time {model_time:g} s of {prepared.model_stop:g} s")
+            _timeout(prepared, k + 1)
+
+
+def _run_compiled(loop, rt: FMU3Runtime, prepared, deadline: float) -> None:
+    # Without a deadline the whole simulation is one compiled call; with one, chunks of about
+    # CHUNK_SECONDS so the deadline is checked between them.
+    n = prepared.n_steps
+    if deadline == math.inf:
+        _compiled_chunk(loop, rt, prepared, 0, n)
+        return
+    chunk, k = min(rt.chunk_steps, _MAX_CHUNK), 0
+    while k < n:
+        end = min(n, k + chunk)
+        started = time.perf_counter()
+        _compiled_chunk(loop, rt, prepared, k, end)
+        if time.monotonic() > deadline:
+            _timeout(prepared, end)
+        elapsed = time.perf_counter() - started
+        if elapsed > 0:
+            chunk = max(1, min(_MAX_CHUNK, int((end - k) * CHUNK_SECONDS / elapsed)))
+        k = end
+    rt.chunk_steps = chunk
+
+
+def _compiled_chunk(loop, rt: FMU3Runtime, prepared, first: int, last: int) -> None:
+    inputs, outputs = prepared.input_values, prepared.output_buffer
+    set_float64, get_float64, do_step = rt.function_addresses()
+    k, which, status = loop(
+        set_float64, get_float64, do_step, rt.component or 0,
+        prepared.input_vr.ctypes.data, inputs.shape[1], inputs.ctypes.data, inputs.strides[0],
+        prepared.output_vr.ctypes.data, outputs.shape[1], outputs.ctypes.data, outputs.strides[0],
+        prepared.model_start, prepared.step_size, prepared.last_step_size, prepared.n_steps, first, last,
+        rt.step_flags, rt.last_successful_time.ctypes.data,
+    )
+    if which == 4:
+        _terminated(rt)
+    if which:
+        rt.check(_FUNCTION_NAMES[which], status, prepared.model_start + k * prepared.step_size)
+
+
+def _terminated(rt: FMU3Runtime) -> None:
+    log = f": {rt.log[-1]}" if rt.log else ""
+    raise simgap.SimulationFailed(
+        f"the FMU ended the simulation (fmi3DoStep: terminateSimulation) at t={rt.last_successful_time[0]:g} s{log}"
+    )
+
+
+def _timeout(prepared, steps_done: int) -> None:
+    model_time = min(prepared.model_start + steps_done * prepared.step_size, prepared.model_stop)
+    raise simgap.SimulationTimeout(f"deadline passed at model time {model_time:g} s of {prepared.model_stop:g} s")
+
+
+def _compiled_loop():
+    if _state.compiled is not None or _state.failed or _state.python_seconds < COMPILE_AFTER_SECONDS:
+        return _state.compiled
+    with _state.lock:
+        if _state.compiled is None and not _state.failed:
+            try:
+                from . import fmi3_steploop_compiled  # imports numba: only once the Python loop has run long enough
+
+                _state.compiled = fmi3_steploop_compiled.loop
+            except Exception as exc:  # numba missing or unable: the Python loop still works
+                _state.failed = True
+                warnings.warn(f"simgap fmu: compiled FMI 3.0 step loop unavailable, staying with Python ({exc})", stacklevel=2)
+    return _state.compiled
 
 
 def typed_values(references: Mapping, values: Mapping[str, float]) -> list[tuple[int, str, float]]:
