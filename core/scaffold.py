@@ -318,7 +318,7 @@ def guess_temperature_unit(column: Column, model_unit: str) -> None:
 
 def yaml_str(text: str) -> str:
     """A YAML scalar for ``text``: plain when safe, else JSON-quoted (JSON strings are YAML)."""
-    plain = re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.\-/]*", text) is not None
+    plain = re.fullmatch(r"[A-Za-z_./][A-Za-z0-9_.\-/]*", text) is not None
     if plain and text.lower() not in ("yes", "no", "on", "off", "true", "false", "null", "y", "n"):
         return text
     return json.dumps(text, ensure_ascii=False)
