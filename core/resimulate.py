@@ -23,7 +23,8 @@ def simulate(run_dir: str | Path, solution: str | int = "knee", data: str | Path
     ``errors`` are every metric (the log's ``error.*`` names without the prefix) and ``series``
     a DataFrame per segment: time, then measured and simulated columns per target. ``start`` /
     ``end`` (timestamps or percentages, as in ``data.segments``) replace the run's segments with
-    one segment ``chosen``.
+    one segment ``chosen``. ``units`` maps each target to its ``DisplayUnit`` (the series are in
+    the workflow's units; plots show the unit the data came in).
     """
     import dataclasses
 
@@ -53,6 +54,9 @@ def simulate(run_dir: str | Path, solution: str | int = "knee", data: str | Path
         except ValidationError as exc:
             raise validation_error(wf.doc, exc) from None
     prepared = prepare(wf)
+    from .display_units import display_units
+
+    units = display_units(prepared)
     names = tuple(prepared.space.names)
     eval_id, parameters = solution_parameters(run, names, solution)
     segments = {}
@@ -68,7 +72,7 @@ def simulate(run_dir: str | Path, solution: str | int = "knee", data: str | Path
         prepared.simulator.close()
     except Exception:  # closing frees per-process state only; the results are already in hand
         pass
-    return {"eval_id": eval_id, "parameters": parameters, "segments": segments}
+    return {"eval_id": eval_id, "parameters": parameters, "segments": segments, "units": units}
 
 
 def _series_frame(setup, series: dict):
@@ -114,26 +118,39 @@ def simulate_command(run_dir: Path, solution: str, data, start, end, output, as_
             series.to_csv(out / f"series_{label}.csv", index=False)
         else:
             series.to_parquet(out / f"series_{label}.parquet", index=False)
-        _plot(series, out / f"series_{label}.png", f"solution {result['eval_id']}, {label}")
+        _plot(series, out / f"series_{label}.png", f"solution {result['eval_id']}, {label}", result["units"])
         click.echo(f"{label}: " + ", ".join(f"{k} {v:.4g}" for k, v in part["errors"].items()))
     click.echo(f"written to {out}")
 
 
-def _plot(series, path: Path, title: str) -> None:
-    import matplotlib
+def _plot(series, path: Path, title: str, units: dict):
+    """Measured and simulated per target in the unit the data came in; long series as envelopes."""
+    from matplotlib.figure import Figure  # no pyplot: a notebook's backend stays as it is
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .display_units import DisplayUnit
+    from .plots import draw_series, envelope_width
 
-    targets = sorted({c.split(".")[0] for c in series.columns if c != "time"})
-    fig, axes = plt.subplots(len(targets), 1, figsize=(10, 2.6 * len(targets)), sharex=True, squeeze=False)
+    targets = list(dict.fromkeys(c.split(".")[0] for c in series.columns if c != "time"))
+    time = series["time"].to_numpy(dtype="datetime64[ns]")
+    fig = Figure(figsize=(10, 2.6 * len(targets)))
+    axes = fig.subplots(len(targets), 1, sharex=True, squeeze=False)
     for ax, target in zip(axes[:, 0], targets):
-        for column in [c for c in series.columns if c.split(".")[0] == target]:
-            ax.plot(series["time"], series[column], lw=0.8, label=column.split(".", 1)[1])
-        ax.set_ylabel(target)
+        unit = units.get(target) or DisplayUnit()
+        columns = [c for c in series.columns if c.split(".")[0] == target]
+        # one bin width for the target's series, so their bands compare
+        width = envelope_width(time, *(series[c].to_numpy(dtype=float) for c in columns)) or 0.0
+        for column in columns:
+            kind = column.split(".", 1)[1]
+            measured = kind.startswith("measured")
+            same_kind = [c for c in columns if c.split(".")[1] == kind.split(".")[0]]
+            shade = same_kind.index(column)
+            draw_series(ax, time, unit.convert(series[column].to_numpy(dtype=float)), label=kind, width=width,
+                        color=f"{0.25 + 0.2 * shade:.2f}" if measured else f"C{shade}", measured=measured)
+        ax.set_ylabel(unit.axis_label(target))
         ax.legend(loc="upper right", fontsize=8)
+        ax.grid(alpha=0.25)
     axes[0, 0].set_title(title)
     axes[-1, 0].set_xlabel("time")
     fig.tight_layout()
     fig.savefig(path, dpi=90)
-    plt.close(fig)
+    return fig

@@ -166,6 +166,19 @@ def test_report_command_and_diagnose_re_render_it(quickstart_run, tmp_path):
     assert missing.exit_code != 0 and "no such run directory" in missing.output and "Traceback" not in missing.output
 
 
+def test_simulate_plots_in_the_unit_the_data_came_in(quickstart_run, tmp_path):
+    import simgap
+    from simgap.resimulate import _plot
+
+    result = simgap.simulate(quickstart_run)
+    assert result["units"]["T_zone"].shown == "degC" and result["units"]["P_el"].shown == "W"
+    series = result["segments"]["training"]["series"]
+    assert 285 < series["T_zone.measured"].mean() < 300  # the series stay in the workflow's kelvin
+    fig = _plot(series, tmp_path / "s.png", "knee", result["units"])
+    assert [ax.get_ylabel() for ax in fig.axes] == ["T_zone [°C]", "P_el [W]"]
+    assert 15 < np.nanmean(fig.axes[0].get_lines()[0].get_ydata()) < 25
+
+
 def _chromium() -> str | None:
     for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable", "chrome"):
         path = shutil.which(name)
