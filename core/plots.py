@@ -59,7 +59,8 @@ def zigzags(values: np.ndarray) -> bool:
 
 def envelope_width(time: np.ndarray, *series) -> float | None:
     """Bin width (s) when ``series`` on ``time`` must be drawn as envelopes, else None."""
-    if len(time) > ENVELOPE_ABOVE or any(s is not None and zigzags(np.asarray(s, dtype=float)) for s in series):
+    # below ENVELOPE_BINS samples a panel gives each two pixels or more: even a zig-zag reads
+    if len(time) > ENVELOPE_ABOVE or (len(time) > ENVELOPE_BINS and any(s is not None and zigzags(np.asarray(s, dtype=float)) for s in series)):
         return bin_width(time, min(ENVELOPE_BINS, max(len(time) // 4, 10)))  # several samples a bin
     return None
 

@@ -30,19 +30,26 @@ def figures(ctx: Context, where: dict, candidates, shrink: list[dict], folder: P
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ..display_units import DisplayUnit, display_units
+    from ..plots import draw_series, envelope_width
+
     folder.mkdir(parents=True, exist_ok=True)
     out = {}
     window = where["window_s"]
     targets = ctx.targets
+    units = display_units(ctx.prepared)  # residuals in the unit the data came in (a difference: no offset)
     # 1. residual over time with the worst windows shaded
     fig, axes = plt.subplots(len(targets), len(ctx.pieces), figsize=(6 * len(ctx.pieces), 2.8 * len(targets)), squeeze=False)
     for i, t in enumerate(targets):
         for j, piece in enumerate(ctx.pieces):
             ax = axes[i][j]
+            unit = units.get(t) or DisplayUnit()
             e = piece.measured[t] - piece.simulated[t]
-            ax.plot(piece.time, e, lw=0.6, color="0.4", label="measured − simulated")
+            # 5-minute on/off residuals drawn sample by sample are a solid band: binned instead
+            draw_series(ax, piece.time, unit.convert_difference(e), label="measured − simulated", color="0.4")
             roll = rolling_error(e, piece.seconds, window)
-            ax.plot(piece.time, roll, lw=1.2, color="tab:red", label=f"rolling RMS ({window / 3600:g} h)")
+            ax.plot(piece.time, unit.convert_difference(roll), lw=1.2, color="tab:red", label=f"rolling RMS ({window / 3600:g} h)")
+            ax.set_ylabel(unit.axis_label("residual"), fontsize=8)
             for lo, hi in worst_windows(roll, piece.seconds, window):
                 ax.axvspan(piece.time[lo], piece.time[hi - 1], color="tab:orange", alpha=0.25)
             ax.axhline(0, color="k", lw=0.5)
@@ -97,10 +104,15 @@ def figures(ctx: Context, where: dict, candidates, shrink: list[dict], folder: P
         residual = ctx.residual
         for i, t in enumerate(targets):
             ax = axes[i][0]
+            unit = units.get(t) or DisplayUnit()
             r = residual[t] - np.nanmean(residual[t])
-            ax.plot(time, r, lw=0.6, color="0.5", label="residual (mean removed)")
-            if t in top.fitted:
-                ax.plot(time, top.fitted[t], lw=0.9, color="tab:green", label=f"{top.name} signature fit")
+            fitted = top.fitted.get(t)
+            width = envelope_width(time, r, fitted) or 0.0  # one bin width, so the two compare
+            draw_series(ax, time, unit.convert_difference(r), label="residual (mean removed)", color="0.5", width=width)
+            if fitted is not None:
+                draw_series(ax, time, unit.convert_difference(np.asarray(fitted, dtype=float)), label=f"{top.name} signature fit",
+                            color="tab:green", width=width)
+            ax.set_ylabel(unit.axis_label("residual"), fontsize=8)
             ax.set_title(t, fontsize=9)
             ax.tick_params(labelsize=7)
             ax.legend(fontsize=7, loc="upper right")
