@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 import re
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
-import pandas as pd
 from pydantic import AfterValidator
 
+if TYPE_CHECKING:
+    import pandas as pd
 
-def parse_duration(value: Any) -> pd.Timedelta:
+
+def parse_duration(value: Any) -> "pd.Timedelta":
     """``90`` (seconds), ``"10min"``, ``"1h"``, ``"2 days"`` -> Timedelta; raises ValueError."""
+    import pandas as pd  # here, not at the top: `simgap --help` imports this module (pandas: ~1 s)
+
     if isinstance(value, bool):
         raise ValueError("expected a duration such as 600, '10min' or '1h'")
     if isinstance(value, (int, float)):

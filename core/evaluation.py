@@ -213,7 +213,3 @@ def evaluate(setup: EvaluationSetup, eval_id: int, params: dict[str, float], kee
     )
     return row
 
-
-def evaluate_batch(setup: EvaluationSetup, jobs: list[tuple[int, dict[str, float]]], keep_series: bool = False) -> list[dict]:
-    """The dask task: several evaluations in one task keeps scheduling overhead per evaluation low."""
-    return [evaluate(setup, eval_id, params, keep_series) for eval_id, params in jobs]
