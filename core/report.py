@@ -263,7 +263,10 @@ def _failures(summary: dict) -> str:
     if not by_kind:
         return "<p>No evaluation failed.</p>"
     rows = [[escape(str(k)), str(v)] for k, v in by_kind.items()]
-    messages = "".join(f"<li><code>{escape(str(m))}</code></li>" for m in failures.get("messages") or [])
+    messages = "".join(
+        f"<li>{m.get('count', '?')} ×: <code>{escape(str(m.get('message', '')))}</code></li>" if isinstance(m, dict)
+        else f"<li><code>{escape(str(m))}</code></li>"
+        for m in failures.get("messages") or [])
     return _table(["kind", "evaluations"], rows) + (f"<p>Most frequent messages:</p><ul>{messages}</ul>" if messages else "")
 
 

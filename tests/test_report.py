@@ -311,6 +311,20 @@ def test_segments_are_not_bridged_by_a_line(png):
     assert np.isnan(np.asarray(simulated.get_ydata(), dtype=float)).sum() == 1
 
 
+def test_a_run_without_success_renders_and_text_is_escaped(tmp_path):
+    """What a failed run's summary.json holds: no featured solution, failures with messages."""
+    import json
+
+    summary = {"run_id": "r", "name": "n <x>", "evaluations": 4, "failed": 4, "featured": {}, "notes": ["a < b & c"],
+               "failures": {"by_kind": {"crashed": 4}, "messages": [{"count": 4, "message": "crashed: <SIGSEGV> at {a: 1}"}]}}
+    (tmp_path / "summary.json").write_text(json.dumps(summary))
+    text = render(tmp_path)
+    page = check_page(text)
+    assert page.problems == [] and set(SECTIONS) <= page.ids
+    assert "a &lt; b &amp; c" in text and "4 ×: <code>crashed: &lt;SIGSEGV&gt; at {a: 1}</code>" in text
+    assert "No successful evaluation" in text
+
+
 def test_render_refuses_a_folder_without_a_summary(tmp_path):
     from simgap.errors import SimgapError
 
