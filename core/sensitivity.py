@@ -12,6 +12,11 @@ measures: it is reported as *inert* (a parameter the model reads but does not us
 compiler may fold it). A tuner below ``INFLUENCE_SHARE`` of the largest μ* (Morris) or with a
 total index below ``SOBOL_TOTAL_MIN`` (Sobol') in every error is *non-influential*;
 ``--write-workflow`` fixes those at their start values.
+
+Time-resolved (``per``): the same simulations scored per window as well (each calendar day,
+each training segment, or each calibration class): every target is copied once per window with
+the measured values outside it masked, as calibration classes do, so the evaluator scores every
+window in the same evaluation; no simulation is added.
 """
 
 from __future__ import annotations
@@ -27,7 +32,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import SimgapError
-from .evaluation import STATUS_OK
+from .evaluation import STATUS_OK, EvaluationSetup, MetricSlot, TargetData
 from .results import ERROR, EVALUATIONS, PARAM, RunStore, read_log
 from .local_executor import executor_for_workflow
 from .setup import Prepared
@@ -36,6 +41,14 @@ INFLUENCE_SHARE = 0.05
 SOBOL_TOTAL_MIN = 0.01
 INERT_SHARE = 1e-9
 TABLE = "sensitivity.csv"
+PER = ("day", "segment", "class")
+PARTIAL_WINDOW = 0.1
+"""A day or segment with fewer rows than this share of the largest window is left out (the
+midnight sample that ends a segment is not a day)."""
+
+
+def per_window_table(per: str) -> str:
+    return f"sensitivity_per_{per}.csv"
 
 
 @dataclass
@@ -49,6 +62,11 @@ class Result:
     failed: int
     wall_s: float
     out_dir: Path | None = None
+    per: str | None = None
+    windows: pd.DataFrame | None = None
+    """With ``per``: the indices per window, as ``table`` with a ``window`` column first."""
+    left_out: list[str] | None = None
+    """Windows (or window and error) that could not be scored, with why."""
 
     def ranking(self, column: str) -> list[str]:
         rows = self.table[self.table["error"] == column].sort_values("rank")
@@ -96,6 +114,97 @@ def analyse(prepared: Prepared, method: str, X: np.ndarray, Y: dict[str, np.ndar
     return pd.concat(parts, ignore_index=True)
 
 
+@dataclass
+class Windows:
+    """The training setup with every target also scored per window (``setup``), and for each
+    added error column its window and the whole-segment column it splits."""
+
+    setup: EvaluationSetup
+    columns: dict[str, tuple[str, str]]
+    left_out: list[str]
+
+
+def windows(prepared: Prepared, per: str) -> Windows:
+    setup = prepared.training
+    if per == "class":
+        classes = [c.name for c in prepared.wf.model.classes]
+        if not classes:
+            raise SimgapError(f"{prepared.wf.path}: sensitivity per class needs calibration classes (classes: in the workflow); use --per day or --per segment")
+        columns = {c: (c.split(".", 1)[0], c.split(".", 1)[1]) for c in setup.columns if c.split(".", 1)[0] in classes}
+        return Windows(setup, columns, [])
+    if per not in PER:
+        raise SimgapError(f"unknown sensitivity window {per!r}; expected one of {', '.join(PER)}")
+    rows = _window_rows(setup, per)
+    largest = max(int(inside.sum()) for inside in rows.values())
+    left_out = [f"{w} ({int(inside.sum())} rows)" for w, inside in rows.items() if inside.sum() < PARTIAL_WINDOW * largest]
+    rows = {w: inside for w, inside in rows.items() if inside.sum() >= PARTIAL_WINDOW * largest}
+    targets, slots = list(setup.targets), list(setup.slots)
+    columns: dict[str, tuple[str, str]] = {}
+    for window, inside in rows.items():
+        for i, target in enumerate(setup.targets):
+            measured = target.measured.copy()
+            measured[~inside] = np.nan
+            copy = TargetData(name=f"{target.name}@{window}", variables=target.variables, measured=measured, time=target.time)
+            added = False
+            for slot in setup.slots:
+                if slot.target != i:
+                    continue
+                new = MetricSlot(target=len(targets), key=slot.key, metric=slot.metric, objective=False, bins=slot.bins)
+                # what fails on the measured values alone (no rows, a zero mean or range) fails
+                # here, not in every evaluation
+                try:
+                    ok = math.isfinite(new.score(copy, measured))
+                except ValueError as exc:
+                    ok, why = False, str(exc)
+                else:
+                    why = "not finite on the measured values"
+                if not ok:
+                    left_out.append(f"{window}: {target.name}.{slot.key} ({why})")
+                    continue
+                slots.append(new)
+                columns[f"{copy.name}.{slot.key}"] = (window, f"{target.name}.{slot.key}")
+                added = True
+            if added:
+                targets.append(copy)
+    if not columns:
+        raise SimgapError(f"sensitivity per {per}: no window can be scored ({'; '.join(left_out)})")
+    windowed = EvaluationSetup(
+        token=f"{setup.token}-per-{per}", simulator=setup.simulator, cases=setup.cases, targets=targets, slots=slots,
+        timeout_s=setup.timeout_s, case_parameters=setup.case_parameters, classes=_with_windows(setup, targets),
+    )
+    return Windows(windowed, columns, left_out)
+
+
+def _window_rows(setup: EvaluationSetup, per: str) -> dict[str, np.ndarray]:
+    """Which rows of the targets (all share the cases' output times) fall in each window."""
+    time = setup.targets[0].time
+    if per == "day":
+        days = pd.DatetimeIndex(time).normalize()
+        return {f"{day:%Y-%m-%d}": np.asarray(days == day) for day in days.unique()}
+    out, first = {}, 0
+    for case in setup.cases:
+        inside = np.zeros(len(time), dtype=bool)
+        inside[first:first + len(case.output_time)] = True
+        first += len(case.output_time)
+        out[f"{pd.Timestamp(time[inside][0]):%Y-%m-%d %H:%M}"] = inside
+    return out
+
+
+def _with_windows(setup: EvaluationSetup, targets: list[TargetData]):
+    """Classes score each window copy on its own class's simulation."""
+    if not setup.classes:
+        return setup.classes
+    import dataclasses
+
+    base = {t.name: i for i, t in enumerate(setup.targets)}
+    owner = {i: run for run in setup.classes for i in run.targets}
+    extra: dict[str, list[int]] = {}
+    for j in range(len(setup.targets), len(targets)):
+        i = base[targets[j].name.rsplit("@", 1)[0]]
+        extra.setdefault(owner[i].name, []).append(j)
+    return [dataclasses.replace(run, targets=run.targets + tuple(extra.get(run.name, []))) for run in setup.classes]
+
+
 def run(
     prepared: Prepared,
     *,
@@ -105,12 +214,15 @@ def run(
     out_dir: Path | None = None,
     executor=None,
     workers: int | None = None,
+    per: str | None = None,
 ) -> Result:
-    """Sample, evaluate on dask (resuming a log already in ``out_dir``), analyse."""
+    """Sample, evaluate on dask (resuming a log already in ``out_dir``), analyse; with ``per``
+    (day, segment or class) also per window, from the same evaluations."""
     t0 = time.perf_counter()
+    split = windows(prepared, per) if per else None
     X = sample(prepared, method, n, seed)
     values = prepared.space.from_unit(X)
-    setup = prepared.training
+    setup = split.setup if split else prepared.training
     names = prepared.space.names
     done: dict[int, dict] = {}
     store = None
@@ -119,7 +231,10 @@ def run(
         store = RunStore(out_dir, f"sensitivity-{method}", names, setup.columns, setup.objective_columns)
         log = read_log(out_dir)
         if log is not None:
-            store.preload(log, out_dir / EVALUATIONS)
+            try:
+                store.preload(log, out_dir / EVALUATIONS)
+            except SimgapError as exc:
+                raise SimgapError(f"{exc}; a sensitivity log resumes only with the same workflow and --per: use another --out") from None
             logged = log.to_pandas()
             for row in logged.itertuples(index=False):
                 eid = int(row.eval_id)
@@ -153,12 +268,25 @@ def run(
         Y[column] = np.where(np.isfinite(y), y, np.nanmax(y))
     if not Y:
         raise SimgapError(f"sensitivity: all {len(values)} evaluations failed; see {out_dir / EVALUATIONS if out_dir else 'the simulator'}")
-    table = analyse(prepared, method, X, Y, seed)
-    inert, weak = _classify(table, method, names)
-    result = Result(method, table, inert, weak, len(values), failed, time.perf_counter() - t0, out_dir)
+    window_of = split.columns if split else {}
+    whole = {c: y for c, y in Y.items() if c not in window_of or per == "class"}
+    table = analyse(prepared, method, X, whole, seed)
+    per_window = None
+    if split:
+        parts = analyse(prepared, method, X, {c: y for c, y in Y.items() if c in window_of}, seed)
+        parts.insert(0, "window", [window_of[c][0] for c in parts["error"]])
+        parts["error"] = [window_of[c][1] for c in parts["error"]]
+        per_window = parts
+    # a tuner that matters in one window only (a defrost hour) is influential
+    inert, weak = _classify(table if per_window is None else pd.concat([table, parts.assign(error=parts["window"] + "|" + parts["error"])]), method, names)
+    result = Result(method, table, inert, weak, len(values), failed, time.perf_counter() - t0, out_dir,
+                    per=per, windows=per_window, left_out=split.left_out if split else None)
     if out_dir is not None:
         table.to_csv(out_dir / TABLE, index=False)
         _plot(result, out_dir / "plots")
+        if per_window is not None:
+            per_window.to_csv(out_dir / per_window_table(per), index=False)
+            _plot_windows(result, out_dir / "plots")
     return result
 
 
@@ -206,10 +334,40 @@ def _plot(result: Result, folder: Path) -> None:
         plt.close(fig)
 
 
-def default_out_dir(prepared: Prepared, method: str) -> Path:
+def _plot_windows(result: Result, folder: Path) -> None:
+    """Per error: a tuners x windows map of each tuner's index as a share of the window's top
+    tuner (how the ranking moves through time), tuners in their whole-segment order."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    key = "mu_star" if result.method == "morris" else "ST"
+    folder.mkdir(parents=True, exist_ok=True)
+    for column, rows in result.windows.groupby("error", sort=False):
+        order = result.ranking(column) if column in set(result.table["error"]) else list(dict.fromkeys(rows["tuner"]))
+        grid = rows.pivot(index="tuner", columns="window", values=key).reindex(order)
+        grid = grid[list(dict.fromkeys(rows["window"]))]
+        top = grid.abs().max(axis=0).replace(0.0, np.nan)
+        share = (grid.abs() / top).fillna(0.0)
+        fig, ax = plt.subplots(figsize=(1.2 * grid.shape[1] + 3, 0.4 * grid.shape[0] + 1.8))
+        image = ax.imshow(share.to_numpy(), cmap="Blues", vmin=0, vmax=1, aspect="auto")
+        for (i, j), value in np.ndenumerate(share.to_numpy()):
+            ax.text(j, i, f"{value:.2f}", ha="center", va="center", fontsize=8, color="white" if value > 0.6 else "black")
+        ax.set_xticks(range(grid.shape[1]), grid.columns, rotation=30, ha="right")
+        ax.set_yticks(range(grid.shape[0]), grid.index)
+        ax.set_title(f"{column}: {key} per {result.per}, share of the window's top tuner")
+        fig.colorbar(image, ax=ax, shrink=0.8)
+        fig.tight_layout()
+        fig.savefig(folder / f"sensitivity_per_{result.per}_{column}.png", dpi=80)
+        plt.close(fig)
+
+
+def default_out_dir(prepared: Prepared, method: str, per: str | None = None) -> Path:
     parent = prepared.wf.resolve(prepared.wf.model.output)
     name = prepared.wf.model.name or prepared.wf.path.stem
-    return Path(parent) / f"{datetime.now().strftime('%Y%m%d-%H%M%S')}-{name}-sensitivity-{method}"
+    suffix = f"-per-{per}" if per else ""
+    return Path(parent) / f"{datetime.now().strftime('%Y%m%d-%H%M%S')}-{name}-sensitivity-{method}{suffix}"
 
 
 def write_workflow(prepared: Prepared, result: Result, target: Path) -> list[str]:

@@ -1,15 +1,19 @@
 """Sensitivity analysis on simgap's evaluator: Morris ranks the quickstart's tuners the same way
 over five seeds and as a one-at-a-time finite-difference check does; an inert parameter is named;
-the analysis resumes from its log; --write-workflow fixes the inert tuner."""
+the analysis resumes from its log; --write-workflow fixes the inert tuner; indices per day, segment
+or class come from the same simulations."""
 
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 import yaml
 
 from simgap import sensitivity
 from simgap.config import load_workflow
+from simgap.errors import SimgapError
+from simgap.evaluation import evaluate
 from simgap.executor import DaskExecutor
 from simgap.setup import prepare
 
@@ -84,3 +88,67 @@ def test_sobol_indices_with_confidence_intervals(folded_workflow, tmp_path):
     assert (rows[["ST_conf", "S1_conf"]].loc[["R1", "R2", "C"]] > 0).all().all()
     assert rows.loc[["R1", "R2", "C"], "ST"].min() > sensitivity.SOBOL_TOTAL_MIN
     assert result.non_influential == ["h_folded"]
+
+
+CLASSES = """
+parameters:
+  - {name: UA_env, min: 50, max: 400}
+classes:
+  - name: cold
+    when: [{column: T_out, below: 276.15}]
+    parameters: [{name: eta_carnot, min: 0.25, max: 0.65}]
+  - name: mild
+    when: [{column: T_out, above: 276.15}]
+    parameters: [{name: eta_carnot, min: 0.25, max: 0.65}]
+"""
+
+
+def _classes_workflow(quickstart_text, write_workflow):
+    start = quickstart_text.index("parameters:\n")
+    end = quickstart_text.index("targets:\n")
+    return write_workflow(quickstart_text[:start] + CLASSES.lstrip() + "\n" + quickstart_text[end:], "classes.yaml")
+
+
+def test_per_day_from_the_same_simulations(quickstart_text, write_workflow, tmp_path):
+    prepared = prepare(load_workflow(write_workflow(quickstart_text)))
+    out = tmp_path / "per_day"
+    result = sensitivity.run(prepared, n=4, seed=2, out_dir=out, workers=2, per="day")
+    log = pd.read_parquet(out / "evaluations.parquet")
+    assert result.evaluations == len(log) == 4 * (4 + 1)  # no simulation added for the windows
+    assert result.left_out == ["2025-01-15 (1 rows)"]  # the midnight sample that ends the segment
+    table = pd.read_csv(out / sensitivity.per_window_table("day"))
+    assert list(table.columns[:3]) == ["window", "error", "tuner"]
+    assert set(table["window"]) == {"2025-01-13", "2025-01-14"}
+    assert len(table) == 2 * 2 * 4  # windows x errors x tuners
+    for column in ("T_zone.rmse", "P_el.cvrmse"):
+        assert (out / "plots" / f"sensitivity_per_day_{column}.png").is_file()
+    # each window's logged error is the metric on that day's rows of the whole simulation
+    row = log.iloc[7]
+    params = {p: float(row[f"param.{p}"]) for p in prepared.space.names}
+    series = evaluate(prepared.training, 0, params, keep_series=True)["series"]
+    target = prepared.training.targets[0]
+    day = pd.DatetimeIndex(target.time).normalize() == pd.Timestamp("2025-01-14")
+    rmse = float(np.sqrt(np.mean((series["T_zone"][day] - target.measured[day]) ** 2)))
+    assert row["error.T_zone@2025-01-14.rmse"] == pytest.approx(rmse, rel=1e-9)
+    assert row["error.T_zone.rmse"] != pytest.approx(rmse, rel=1e-3)
+
+
+def test_per_class_and_per_day_with_classes(quickstart_text, write_workflow, tmp_path):
+    prepared = prepare(load_workflow(_classes_workflow(quickstart_text, write_workflow)))
+    by_class = sensitivity.run(prepared, n=3, seed=1, out_dir=tmp_path / "per_class", workers=2, per="class")
+    table = by_class.windows.set_index(["window", "error", "tuner"])["mu_star"]
+    # a class's errors move with its own tuner and the global one, never with the other class's
+    for own, other in (("cold", "mild"), ("mild", "cold")):
+        for column in ("T_zone.rmse", "P_el.cvrmse"):
+            assert table[(own, column, f"{other}.eta_carnot")] == 0.0
+            assert table[(own, column, f"{own}.eta_carnot")] > 0.0
+    by_day = sensitivity.run(prepared, n=3, seed=1, out_dir=tmp_path / "per_day", workers=2, per="day")
+    assert set(by_day.windows["error"]) == {"cold.T_zone.rmse", "cold.P_el.cvrmse", "mild.T_zone.rmse", "mild.P_el.cvrmse"}
+    cold = by_day.windows[by_day.windows["error"].str.startswith("cold.")].set_index("tuner")["mu_star"]
+    assert (cold.loc["mild.eta_carnot"] == 0.0).all() and (cold.loc["cold.eta_carnot"] > 0.0).all()
+
+
+def test_per_class_needs_classes(quickstart_text, write_workflow):
+    prepared = prepare(load_workflow(write_workflow(quickstart_text)))
+    with pytest.raises(SimgapError, match="per class needs calibration classes"):
+        sensitivity.run(prepared, n=2, per="class")
