@@ -122,6 +122,7 @@ def main() -> None:
     parser.add_argument("--only", help="comma-separated effect names (and/or 'null')")
     parser.add_argument("--out", type=Path, help="folder for the cases (default: a temporary folder)")
     parser.add_argument("--candidates", type=int, default=3)
+    parser.add_argument("--workers", type=int, default=2, help="dask workers of each calibration (1-2 on a shared machine)")
     parser.add_argument("--combinations", action="store_true", help="only the cases that withhold two effects at once")
     parser.add_argument("--unseen", action="store_true", help="the cases of issue 14, fixed before any was run (see unseen_cases)")
     args = parser.parse_args()
@@ -136,7 +137,7 @@ def main() -> None:
     for case in todo:
         folder = root / case.label.replace(":", "_").replace("(", "_").replace(")", "").replace(",", "_").replace("=", "")
         try:
-            r = run_case(case, folder, candidates=args.candidates)
+            r = run_case(case, folder, candidates=args.candidates, workers=args.workers)
         except Exception as exc:  # one broken case must not lose the table
             r = {"case": case.label, "model": case.model, "effect": case.effect, "error": f"{type(exc).__name__}: {exc}",
                  "top1": False, "top3": False, "shrink": None, "closed": None, "claimed": [], "ranking": []}

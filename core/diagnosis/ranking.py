@@ -64,6 +64,10 @@ class Candidate:
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     """Per target, the part of the residual the effect's features reproduce."""
     responses: list[tuple[dict[str, float], dict[str, np.ndarray]]] = field(default_factory=list, repr=False)
+    moved_switches: bool = False
+    """Some screened setting of the effect moves the unit's switching (it was tested on envelopes)."""
+    best_setting: int | None = None
+    """Index in ``responses`` of the setting that explained most on the effect's best target."""
     """(effect parameter values, simulated change per target) at every screened setting."""
 
     @property
@@ -148,11 +152,13 @@ def explained_by_lag(r: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return np.einsum("kj,jl,kl->k", c, gram_inv, c) / ss, X @ (gram_inv @ (X.T @ r))
 
 
-def max_shift_test(r: np.ndarray, designs: list[np.ndarray], exclusion: float = 0.1):
+def max_shift_test(r, designs: list[np.ndarray], exclusion: float = 0.1):
     """The best of several designs (one per effect setting), tested with the max statistic:
-    at every lag the best design counts, so trying several settings is paid for."""
-    n = len(r)
-    curves, fits = zip(*(explained_by_lag(r, X) for X in designs)) if designs else ((np.zeros(n),), (np.zeros(n),))
+    at every lag the best design counts, so trying several settings is paid for. ``r`` is one
+    residual, or one per design (the same residual seen another way, e.g. as window means)."""
+    rs = list(r) if isinstance(r, (list, tuple)) else [r] * len(designs)
+    n = len(rs[0]) if rs else len(r)
+    curves, fits = zip(*(explained_by_lag(ri, X) for ri, X in zip(rs, designs))) if designs else ((np.zeros(n),), (np.zeros(n),))
     curves = np.vstack(curves)
     best = int(np.argmax(curves[:, 0]))
     combined = curves.max(axis=0)
@@ -275,10 +281,25 @@ def _simulate_all(ctx: Context, params: dict[str, float], addition: EffectAdditi
     return {t: np.concatenate([p[t] for p in parts]) for t in ctx.targets}
 
 
-def effect_settings(addition: EffectAddition, per_parameter: int = 3) -> list[dict[str, float]]:
+def _at(p, q: float) -> float:
+    """The value at ``q`` (0..1) of a parameter's range, in its own scale."""
+    if p.scale == "log" and p.lower > 0:
+        return math.exp(math.log(p.lower) + q * (math.log(p.upper) - math.log(p.lower)))
+    return p.lower + q * (p.upper - p.lower)
+
+
+JOINT_SETTINGS = 4
+"""Settings that move every parameter of a multi-parameter effect at once (a space-filling
+design): a thermostat threshold that the typical value never reaches only acts together with
+its hysteresis and minimum times, which one-at-a-time settings never combine."""
+
+
+def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int = JOINT_SETTINGS) -> list[dict[str, float]]:
     """Typical values, then each of the first three parameters at 20 % and 80 % of its range
     (in its own scale) with the others typical: a threshold or a time constant far from its
-    typical value still shows in one of them."""
+    typical value still shows in one of them. An effect with several parameters also gets
+    ``joint`` settings of a scrambled Sobol design over all of them (fixed seed, so the
+    screening is reproducible): settings that only act in combination."""
     typical = {p.name: p.default for p in addition.parameters}
     settings = [typical]
     for p in addition.parameters[:per_parameter]:
@@ -286,11 +307,13 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3) -> list[di
             settings += [{**typical, p.name: float(v)} for v in p.screen]
             continue
         for q in (0.2, 0.8):
-            if p.scale == "log" and p.lower > 0:
-                value = math.exp(math.log(p.lower) + q * (math.log(p.upper) - math.log(p.lower)))
-            else:
-                value = p.lower + q * (p.upper - p.lower)
-            settings.append({**typical, p.name: value})
+            settings.append({**typical, p.name: _at(p, q)})
+    if joint and len(addition.parameters) > 1:
+        from scipy.stats import qmc
+
+        points = qmc.Sobol(d=len(addition.parameters), scramble=True, seed=0).random(joint)
+        # within 10-90 % of each range: the extremes are seldom the truth and often degenerate
+        settings += [{p.name: _at(p, 0.1 + 0.8 * float(q)) for p, q in zip(addition.parameters, row)} for row in points]
     return settings
 
 
@@ -326,6 +349,67 @@ def switching_instants(data) -> dict[str, np.ndarray]:
     return out
 
 
+MOVED_SWITCHES = 0.01
+"""Share of samples whose running state must change for an effect to count as moving switches."""
+
+
+def moves_switches(ctx: Context, data, change: dict[str, np.ndarray]) -> bool:
+    """True if the effect's simulated change moves the unit's switching: the running state
+    read from the simulated power (on/off only where the power is two-state) differs on at
+    least 1 % of the samples. Only such an effect is also tested on the envelopes."""
+    from .context import running_level
+
+    if ctx.operation != "on/off":
+        return False
+    kind, _, name = ctx.roles.get("power", "").partition(":")
+    if kind != "sim" or name not in change:
+        return False
+    base = np.asarray(data.simulated[name], dtype=float)
+    after = base + np.asarray(change[name], dtype=float)
+    ok = np.isfinite(base) & np.isfinite(after)
+    if not ok.any():
+        return False
+    # the same standby threshold for both, from the base simulation
+    low, high = float(np.nanpercentile(base, 2)), float(np.nanpercentile(base, 95))
+    if not high > low:
+        return False
+    cut = low + 0.15 * (high - low)
+    return bool(np.mean((base[ok] > cut) != (after[ok] > cut)) >= MOVED_SWITCHES)
+
+
+def window_samples(ctx: Context, data) -> int:
+    """Samples in the diagnosis's rolling window (``diagnose.window``), for the window-mean view
+    of the screening; 1 where the data are as coarse as the window."""
+    from ..durations import parse_duration
+
+    try:
+        seconds = parse_duration(ctx.config.window).total_seconds()
+    except Exception:  # an unreadable window is reported by the 'where' part
+        return 1
+    width = int(round(seconds / max(data.sample_interval, 1e-9)))
+    return max(width, 6)
+
+
+def _window_mean(segment: np.ndarray, width: int):
+    """A centred moving mean over ``width`` samples that does not cross segment joins."""
+    segment = np.asarray(segment)
+    bounds = np.flatnonzero(np.r_[True, segment[1:] != segment[:-1], True])
+
+    def smooth(matrix: np.ndarray) -> np.ndarray:
+        matrix = np.asarray(matrix, dtype=float)
+        out = np.empty_like(matrix)
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            block = matrix[a:b]
+            c = np.vstack([np.zeros((1, block.shape[1])), np.cumsum(block, axis=0)])
+            i = np.arange(b - a)
+            lo = np.clip(i - width // 2, 0, b - a)
+            hi = np.clip(i - width // 2 + width, 0, b - a)
+            out[a:b] = (c[hi] - c[lo]) / (hi - lo)[:, None]
+        return out
+
+    return smooth
+
+
 def in_the_model(addition: EffectAddition | None, data) -> str:
     """Why the model has the effect already ('' if it has not): its switch is on, one of its
     parameters is a tuner, or the same generic effect sits around the simulator."""
@@ -353,6 +437,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
     # per target: mask, the residual cleared of offset and tuner sensitivities, its nuisance
     prepared_targets, offset_targets = {}, {}
     instants = switching_instants(data)
+    width = window_samples(ctx, data)
     for t in ctx.targets:
         r = residual[t]
         mask = np.isfinite(r)
@@ -362,7 +447,22 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         rt = _clear(r[mask][:, None], N)[:, 0]
         # for an effect whose evidence is an offset (a sensor's), the constant stays in
         N_kept = N[:, 1:]
-        prepared_targets[t] = (mask, N, rt)
+        views = [(N, rt, None)]
+        if width > 1:
+            # the residual's envelope (its rolling RMS over the window): an effect that moves
+            # the switching times (a thermostat, minimum run and off times) makes cycles that the
+            # simulation cannot put in phase with the record, so sample by sample its change
+            # explains little (a double penalty), but where the record cycles more or less than
+            # the model, the residual is large, wherever the phase
+            mean = _window_mean(data.segment[mask], width)
+
+            def envelope(matrix, mean=mean, N=N):
+                cleared = _clear(np.asarray(matrix, dtype=float), N)
+                return np.sqrt(np.maximum(mean(cleared * cleared), 0.0))
+
+            Ne = np.ones((int(mask.sum()), 1))
+            views.append((Ne, _clear(np.sqrt(np.maximum(mean(rt[:, None] ** 2), 0.0)), Ne)[:, 0], envelope))
+        prepared_targets[t] = (mask, views)
         offset_targets[t] = (mask, N_kept, _clear(r[mask][:, None], N_kept)[:, 0])
     for effect in effects:
         reason = effect.applies(data)
@@ -381,25 +481,42 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         cand.addition = addition
         cand.responses = effect_responses(ctx, addition) if addition is not None else []
         responses = [change for _, change in cand.responses]
+        moved = [moves_switches(ctx, data, change) for change in responses]
+        best_target_share = -math.inf
+        cand.moved_switches = any(moved)
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
         keeps_offset = getattr(effect, "keeps_offset", False)
-        for t, (mask, N, rt) in prepared_targets.items():
+        for t, (mask, views) in prepared_targets.items():
             if not responses and about is not None and t not in about:
                 continue
+            rt = views[0][1]
             # the simulated change is the sharper signature; the declared features stand in
             # where the model cannot take the effect
             if responses:
                 # one design per setting: the simulated change of this target with the effect on
-                designs, names = [], []
-                for k, resp in enumerate(responses):
-                    n_k, X = _standardise({f"simulated change of {t} with the effect on (setting {k})": resp[t]}, mask)
-                    designs.append(_clear(X, N))
-                    names += n_k
-                observed, chance, p, fitted, _ = max_shift_test(rt, designs)
+                columns = [{f"simulated change of {t} with the effect on (setting {k})": resp[t]} for k, resp in enumerate(responses)]
             else:
-                names, X = _standardise(dict(features), mask)
-                observed, chance, p, fitted = shift_test(rt, _clear(X, N))
+                columns = [dict(features)]
+            # every design in every view (samples, window means); the max statistic pays for all
+            designs, residuals, names, which = [], [], [], []
+            for k, cols in enumerate(columns):
+                n_k, X = _standardise(cols, mask)
+                names += n_k
+                N = views[0][0]
+                designs.append(_clear(X, N))
+                residuals.append(rt)
+                which.append(k)
+                if len(views) > 1 and responses and moved[k]:
+                    Ne, r_env, envelope = views[1]
+                    designs.append(_clear(envelope(X), Ne))
+                    residuals.append(r_env)
+                    which.append(k)
+            observed, chance, p, fitted, best = max_shift_test(residuals, designs)
+            if residuals[best] is not rt:
+                # the fit of the envelopes; the sample-level fit of the same design is what
+                # reproduces the residual (the warm start and the training/validation split use it)
+                fitted = explained_by_lag(rt, designs[best - 1])[1]
             if keeps_offset:
                 # a constant cannot be tested by shifting it in time: the bias that re-tuning
                 # leaves (tuners cleared, the constant kept) gets its own test, paid for by a
@@ -413,6 +530,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             full[mask] = fitted
             cand.fitted[t] = full
             cand.per_target[t] = {"share": observed, "chance": chance, "p_value": p}
+            if responses and (cand.best_setting is None or observed - chance > best_target_share):
+                cand.best_setting, best_target_share = which[best], observed - chance
             shares.append(observed - chance)
             raws.append(observed)
             ps.append(p)

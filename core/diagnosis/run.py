@@ -41,6 +41,34 @@ def acts_mostly_in_training(ctx, cand, ratio: float = 0.2) -> bool:
     return strength["validation"] < ratio * strength["training"]
 
 
+def start_responses(cand: Candidate) -> list:
+    """The screened settings the recalibration may start from. For an effect that moves the
+    switching (tested on the envelopes), the sample-level fit of the warm start prefers a
+    setting that does nothing over cycles out of phase; it starts at the setting the screening
+    found best instead."""
+    if cand.best_setting is not None and cand.moved_switches:
+        return [cand.responses[cand.best_setting]]
+    return cand.responses
+
+
+def recalibration_choice(candidates: list[Candidate], budget: int) -> list[Candidate]:
+    """The significant addable effects to recalibrate: the model's own effects (a switch in the
+    model) and the generic ones around the simulator take turns, each family in its order of
+    share, the better first. Generic effects fit many residuals a little (a clock shift, a
+    sensor lag, an input gain all follow the simulated changes); ranked in one list they took
+    every slot from the model's own effect that caused the gap."""
+    testable = [c for c in candidates if c.significant and c.addition is not None]
+    families = [[c for c in testable if not c.addition.around], [c for c in testable if c.addition.around]]
+    families = [f for f in families if f]
+    families.sort(key=lambda f: -f[0].share)
+    chosen: list[Candidate] = []
+    while len(chosen) < budget and any(families):
+        for family in families:
+            if family and len(chosen) < budget:
+                chosen.append(family.pop(0))
+    return chosen
+
+
 def confirm_order(candidates: list[Candidate]) -> list[Candidate]:
     """Recalibrated effects first, by shrink; then the rest by their share (the screening order)."""
     tested = [c for c in candidates if c.gap_shrink is not None]
@@ -158,7 +186,7 @@ def diagnose(
     budget = ctx.config.recalibrate.candidates
     # only effects that pass the screening are worth a recalibration; the best shrink then
     # orders them (screening by signature, confirmation by the model itself)
-    chosen = [c for c in candidates if c.significant and c.addition is not None][:budget]
+    chosen = recalibration_choice(candidates, budget)
     for cand in candidates:
         cand.confirm = budget > 0
     control = None
@@ -171,7 +199,7 @@ def diagnose(
     for cand in chosen:
         say(f"recalibrating with {cand.name} added ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
         weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
-        start = local_fit(ctx, nuisance, cand.addition, cand.responses)
+        start = local_fit(ctx, nuisance, cand.addition, start_responses(cand))
         result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control, start=start)
         if "gap_shrink" in result:
             cand.gap_shrink = float(result["gap_shrink"])

@@ -29,6 +29,7 @@ CONTROL = "control"
 """Name of the recalibration without any effect (re-tuning alone)."""
 RESIDUALS = "_residuals"
 RESIDUALS_TRAINING = "_residuals_training"
+REPICKED = "_repicked"
 """Keys of a recalibration result holding residual series (kept in memory, not written)."""
 
 
@@ -41,6 +42,18 @@ def _absolute_paths(value, base: Path):
     if isinstance(value, str) and value and not Path(value).is_absolute() and (base / value).exists():
         return str((base / value).resolve())
     return value
+
+
+PINNED = 0.01
+"""A tuner within this share of its range from a bound counts as pinned there."""
+
+
+def pinned(value: float, p) -> bool:
+    if p.scale == "log" and p.min > 0:
+        lo, hi, v = math.log(p.min), math.log(p.max), math.log(max(value, 1e-300))
+    else:
+        lo, hi, v = p.min, p.max, value
+    return hi > lo and min(v - lo, hi - v) <= PINNED * (hi - lo)
 
 
 def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path, start: dict[str, float] | None = None) -> Path:
@@ -60,6 +73,15 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
     params = []
     for p in wf.model.parameters:
         value = start.get(p.name, ctx.parameters[p.name])
+        if pinned(ctx.parameters[p.name], p):
+            # the base calibration pinned this tuner to a bound: it may be bent to imitate the
+            # missing effect (or the truth sits there), so the recalibrations, the control's
+            # alike, search its whole range rather than a window around the bend
+            entry = {"name": p.name, "min": p.min, "max": p.max, "start": min(max(value, p.min), p.max), "scale": p.scale}
+            if p.unit:
+                entry["unit"] = p.unit
+            params.append(entry)
+            continue
         if p.scale == "log":
             lo, hi = math.log(p.min), math.log(p.max)
             width = NARROW * (hi - lo)
@@ -157,28 +179,15 @@ def recalibrate(
     if pareto is None or pareto.empty:
         out["error"] = "the recalibration found no successful solution"
         return out
-    objectives = run.objective_names
-    # the front member that improves training most where the effect acts (validation unseen):
-    # training-error ratios after/before, weighted by the effect's share per target
-    train = ctx.run.evaluations
-    base_row = train[train["eval_id"] == ctx.solution_id].iloc[0]
-    ratios = np.column_stack(
-        [pareto[ERROR + c].to_numpy(dtype=float) / max(float(base_row[ERROR + c]), 1e-300) for c in objectives]
-    )
-    w = np.array([max(weights.get(c.split(".")[0], 0.0), 0.02) for c in objectives])
-    pick = pareto.iloc[int(np.argmin(ratios @ (w / w.sum())))]
-    after = {c: float(pick[VALIDATION + c]) for c in before if VALIDATION + c in pick.index}
-    out["after"] = after
-    out["solution"] = int(pick["eval_id"])
-    out["effect_parameters"] = {p.name: float(pick[PARAM + p.name]) for p in addition.parameters}
-    out["parameters"] = {c[len(PARAM) :]: float(pick[c]) for c in pareto.columns if c.startswith(PARAM)}
-    out["shrink"] = {c: (1.0 - after[c] / before[c]) if before.get(c) and math.isfinite(after.get(c, math.nan)) else math.nan for c in after}
-    out[RESIDUALS], out[RESIDUALS_TRAINING] = {}, {}
-    out["above_noise"] = _above_noise(ctx, prepared, out["parameters"], residuals=out[RESIDUALS])
-    out["above_noise_training"] = _above_noise(ctx, prepared, out["parameters"], "training", residuals=out[RESIDUALS_TRAINING])
-    out["gap_shrink"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise"].items()}, weights)
-    out["gap_shrink_training"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise_training"].items()}, weights)
+    out["workflow"] = str(path)
+    pick = _pick(ctx, run, weights)
+    out.update(_scored(ctx, prepared, addition, pick, before, weights))
     if control and control.get("above_noise"):
+        # the control judged by the same rule: its front member picked with this effect's
+        # weights (a control picked for all targets alike loses to any effect on the target the
+        # effect's weights favour, which credited an effect with a tuner's freedom)
+        control = _control_picked_for(ctx, control, weights)
+        out["control_solution"] = control.get("solution")
         out["shrink_vs_control"], out["gap_shrink_vs_control"] = _versus(out["above_noise"], control["above_noise"], weights)
         out["shrink_vs_control_training"], out["gap_shrink_vs_control_training"] = _versus(
             out["above_noise_training"], control.get("above_noise_training", {}), weights
@@ -186,6 +195,57 @@ def recalibrate(
         out["p_vs_control"] = improvement_p_value(out[RESIDUALS], control.get(RESIDUALS, {}), weights)
         out["p_vs_control_training"] = improvement_p_value(out[RESIDUALS_TRAINING], control.get(RESIDUALS_TRAINING, {}), weights)
     return out
+
+
+def _pick(ctx: Context, run, weights: dict[str, float]):
+    """The front member that improves training most where the effect acts (validation unseen):
+    training-error ratios after/before, weighted by the effect's share per target."""
+    pareto = run.pareto
+    objectives = run.objective_names
+    train = ctx.run.evaluations
+    base_row = train[train["eval_id"] == ctx.solution_id].iloc[0]
+    ratios = np.column_stack(
+        [pareto[ERROR + c].to_numpy(dtype=float) / max(float(base_row[ERROR + c]), 1e-300) for c in objectives]
+    )
+    w = np.array([max(weights.get(c.split(".")[0], 0.0), 0.02) for c in objectives])
+    return pareto.iloc[int(np.argmin(ratios @ (w / w.sum())))]
+
+
+def _scored(ctx: Context, prepared, addition: EffectAddition, pick, before: dict, weights: dict[str, float]) -> dict:
+    """Validation errors, shrinks and residual series of one picked front member."""
+    out: dict = {}
+    after = {c: float(pick[VALIDATION + c]) for c in before if VALIDATION + c in pick.index}
+    out["after"] = after
+    out["solution"] = int(pick["eval_id"])
+    out["effect_parameters"] = {p.name: float(pick[PARAM + p.name]) for p in addition.parameters}
+    out["parameters"] = {c[len(PARAM) :]: float(pick[c]) for c in pick.index if c.startswith(PARAM)}
+    out["shrink"] = {c: (1.0 - after[c] / before[c]) if before.get(c) and math.isfinite(after.get(c, math.nan)) else math.nan for c in after}
+    out[RESIDUALS], out[RESIDUALS_TRAINING] = {}, {}
+    out["above_noise"] = _above_noise(ctx, prepared, out["parameters"], residuals=out[RESIDUALS])
+    out["above_noise_training"] = _above_noise(ctx, prepared, out["parameters"], "training", residuals=out[RESIDUALS_TRAINING])
+    out["gap_shrink"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise"].items()}, weights)
+    out["gap_shrink_training"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise_training"].items()}, weights)
+    return out
+
+
+def _control_picked_for(ctx: Context, control: dict, weights: dict[str, float]) -> dict:
+    """The control's result with its front member picked by ``weights`` (cached per member)."""
+    from ..setup import prepare
+
+    if not control.get("run") or not control.get("workflow"):
+        return control
+    try:
+        pick = _pick(ctx, load_run(control["run"]), weights)
+    except Exception:  # the control's own pick stands
+        return control
+    solution = int(pick["eval_id"])
+    if solution == control.get("solution"):
+        return control
+    cache = control.setdefault(REPICKED, {})
+    if solution not in cache:
+        prepared = prepare(control["workflow"])
+        cache[solution] = {**control, **_scored(ctx, prepared, EffectAddition(switch={}, parameters=()), pick, control["before"], weights)}
+    return cache[solution]
 
 
 
