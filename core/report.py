@@ -30,7 +30,7 @@ body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:0 a
 padding:0 1.2em 3em;color:#1d1d1f;line-height:1.45}
 h1{margin:.8em 0 .1em}h2{margin-top:1.8em;border-bottom:1px solid #ccc;padding-bottom:.2em}
 .sub{color:#555;margin:0 0 1em}nav a{margin-right:1em}
-table{border-collapse:collapse;margin:.6em 0;font-size:.9em}
+table{border-collapse:collapse;margin:.6em 0;font-size:.9em}.scroll{overflow-x:auto}
 th,td{border:1px solid #d0d0d0;padding:.25em .6em;text-align:right;vertical-align:top}
 th{background:#f3f3f3}td.l,th.l{text-align:left}
 .bad{background:#fde8e8}.knee{background:#fff6d8}
@@ -71,7 +71,7 @@ def _table(header: list[str], rows: list[list[str]], row_classes: list[str] | No
     def cell(tag, i, text):
         return f'<{tag} class="l">{text}</{tag}>' if i < left else f"<{tag}>{text}</{tag}>"
 
-    out = ["<table>"]
+    out = ['<div class="scroll"><table>']
     if header:
         out += ["<thead><tr>", *(cell("th", i, h) for i, h in enumerate(header)), "</tr></thead>"]
     out.append("<tbody>")
@@ -80,7 +80,7 @@ def _table(header: list[str], rows: list[list[str]], row_classes: list[str] | No
         out.append(f'<tr class="{cls}">' if cls else "<tr>")
         out += [cell("td", i, c) for i, c in enumerate(row)]
         out.append("</tr>")
-    out.append("</tbody></table>")
+    out.append("</tbody></table></div>")
     return "".join(out)
 
 
