@@ -218,10 +218,12 @@ def _identifiability(run_dir: Path, summary: dict) -> str:
     if not ident:
         return "<p>No identifiability report (no successful evaluation, or an older run).</p>"
     tuners = ident.get("tuners") or []
-    rows = [[escape(t["name"]), _num(t.get("knee")), _num(t.get("low")), _num(t.get("high")), _num(t.get("spread"), 3),
+    units = {p["name"]: p.get("unit", "") for p in summary.get("parameters") or []}
+    rows = [[escape(t["name"]), escape(units.get(t["name"], "")), _num(t.get("knee")), _num(t.get("low")), _num(t.get("high")), _num(t.get("spread"), 3),
              "yes" if t.get("identifiable") else "<b>no</b>"] for t in tuners]
     classes = ["" if t.get("identifiable") else "bad" for t in tuners]
-    text = (f"<p>Range each tuner takes over the {ident.get('near_optimal', 0)} evaluations within "
+    near = ident.get("near_optimal", 0)
+    text = (f"<p>Range each tuner takes over the {near} evaluation{'' if near == 1 else 's'} within "
             f"{100 * float(ident.get('tolerance', 0)):.0f} % of the knee in every objective"
             f"{' and a local probe around the knee' if ident.get('local_probe') else ''}. "
             f"Spread is that range as a share of the tuner's bounds.</p>")
@@ -229,7 +231,7 @@ def _identifiability(run_dir: Path, summary: dict) -> str:
     combo = ("<p>Determined combinations: " + escape("; ".join(map(str, combos))) + "</p>") if combos else ""
     plot = run_dir / "plots" / "identifiability.png"
     image = _image(plot, "Near-optimal evaluations, pairwise.") if plot.is_file() else ""
-    return text + _table(["tuner", "knee", "low", "high", "spread", "identifiable"], rows, classes) + combo + image
+    return text + _table(["tuner", "unit", "knee", "low", "high", "spread", "identifiable"], rows, classes, left=2) + combo + image
 
 
 def _diagnosis(run_dir: Path) -> str:
