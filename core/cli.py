@@ -167,7 +167,10 @@ def _report_run(run_dir):
 @click.argument("workflow", type=click.Path(path_type=Path))
 @click.option("--simulate/--no-simulate", default=True, show_default=True,
               help="run one trial simulation at the tuners' start values on the first training case")
-def check(workflow, simulate):
+@click.option("--probe", is_flag=True,
+              help="also simulate each tuner alone at its bounds (2 x tuners + 1 simulations): name inert tuners and bounds that make the model fail")
+@click.option("--workers", type=click.IntRange(min=1), help="local process workers for --probe (default: one per core)")
+def check(workflow, simulate, probe, workers):
     """Validate WORKFLOW (schema, plugins, data, model variables) and run one trial simulation."""
     from .config import load_workflow
     from .grid import check_grid
@@ -196,6 +199,11 @@ def check(workflow, simulate):
         from .trial import trial_simulation
 
         click.echo(f"  trial simulation: {trial_simulation(p)}")
+    if probe:
+        from .probe import probe as probe_tuners, report
+
+        for line in report(p, probe_tuners(p, workers=workers)):
+            click.echo(f"  {line}")
 
 
 @main.command()

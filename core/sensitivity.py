@@ -295,21 +295,33 @@ def _attr(column: str, frame: pd.DataFrame) -> str:
     return f"_{list(frame.columns).index(column)}"
 
 
+def shares_of_top(table: pd.DataFrame, key: str, names) -> dict[str, list[float]]:
+    """Per tuner, its |``key``| as a share of the largest in each error column (0 where no tuner
+    moves that error)."""
+    out: dict[str, list[float]] = {name: [] for name in names}
+    for _, rows in table.groupby("error"):
+        top = float(rows[key].abs().max())
+        for name in names:
+            value = abs(float(rows.loc[rows["tuner"] == name, key].iloc[0]))
+            out[name].append(value / top if top > 0 else 0.0)
+    return out
+
+
+def inert_tuners(table: pd.DataFrame, key: str, names) -> list[str]:
+    """Tuners that move no error column at all: the largest |``key``| (an effect: μ*, or the
+    change between bounds of ``simgap check --probe``) at most ``INERT_SHARE`` of the top
+    tuner's in every column."""
+    return [name for name, shares in shares_of_top(table, key, names).items() if max(shares, default=0.0) <= INERT_SHARE]
+
+
 def _classify(table: pd.DataFrame, method: str, names) -> tuple[list[str], list[str]]:
-    inert, weak = [], []
     key = "mu_star" if method == "morris" else "ST"
-    for name in names:
-        shares, magnitudes = [], []
-        for column, rows in table.groupby("error"):
-            top = float(rows[key].abs().max())
-            value = float(rows.loc[rows["tuner"] == name, key].iloc[0])
-            shares.append(abs(value) / top if top > 0 else 0.0)
-            magnitudes.append(abs(value))
-        if method == "morris" and max(shares) <= INERT_SHARE:
-            inert.append(name)
-        if (method == "morris" and max(shares) < INFLUENCE_SHARE) or (method == "sobol" and max(magnitudes) < SOBOL_TOTAL_MIN):
-            weak.append(name)
-    return inert, weak
+    if method == "morris":
+        inert = inert_tuners(table, key, names)
+        weak = [name for name, shares in shares_of_top(table, key, names).items() if max(shares) < INFLUENCE_SHARE]
+        return inert, weak
+    magnitudes = {name: table.loc[table["tuner"] == name, key].abs().max() for name in names}
+    return [], [name for name in names if magnitudes[name] < SOBOL_TOTAL_MIN]
 
 
 def _plot(result: Result, folder: Path) -> None:
