@@ -1,0 +1,102 @@
+"""Effects that move the switching of an on/off unit (cycling by a thermostat, minimum run/off
+times): tested on envelopes, started at the screening's best setting; the recalibration
+budget shared between the model's own and the generic effects; pinned tuners."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from simgap.diagnosis.ranking import Candidate, _window_mean, explained_by_lag, max_shift_test, moves_switches
+from simgap.diagnosis.run import recalibration_choice
+from simgap.diagnosis.shrink import pinned
+from simgap.interfaces import EffectAddition
+
+
+def _cycles(n: int, period: int, phase: int, active: np.ndarray) -> np.ndarray:
+    """A 0/1 on/off pattern of ``period`` samples, shifted by ``phase``, only where ``active``."""
+    on = (((np.arange(n) + phase) // (period // 2)) % 2 == 0).astype(float)
+    return np.where(active, on, 1.0)
+
+
+def test_cycles_out_of_phase_show_on_the_envelope_not_sample_by_sample():
+    rng = np.random.default_rng(3)
+    n, period, width = 6000, 120, 360
+    # the unit cycles in a few irregular stretches of the record (mild weather)
+    active = np.zeros(n, dtype=bool)
+    for start in rng.choice(n - 500, 6, replace=False):
+        active[start : start + int(rng.integers(200, 500))] = True
+    model = np.ones(n)  # the model runs through
+    measured = _cycles(n, period, 0, active) + 0.05 * rng.normal(size=n)
+    residual = measured - model
+    residual -= residual.mean()
+    # the effect switched on in the model: cycles in the same stretches, another phase and period
+    change = _cycles(n, period + 30, 37, active) - model
+    x = (change - change.mean())[:, None]
+    sample_share = explained_by_lag(residual, x)[0][0]
+    mean = _window_mean(np.zeros(n, dtype=int), width)
+    env_r = np.sqrt(mean(residual[:, None] ** 2))[:, 0]
+    env_x = np.sqrt(mean(x**2))
+    env_r, env_x = env_r - env_r.mean(), env_x - env_x.mean()
+    observed, chance, p, _, best = max_shift_test([residual, env_r], [x, env_x])
+    # sample by sample only the lower mean of the cycling stretches is explained
+    assert sample_share < 0.3
+    assert best == 1 and observed - chance > max(0.5, 2 * sample_share) and p < 0.01, (observed, chance, sample_share)
+
+
+def test_window_mean_stays_inside_segments():
+    segment = np.repeat([0, 1], 5)
+    values = np.r_[np.zeros(5), np.ones(5)][:, None]
+    smooth = _window_mean(segment, 4)(values)
+    assert np.allclose(smooth[:5], 0.0) and np.allclose(smooth[5:], 1.0)
+
+
+def _ctx_data(power: np.ndarray, operation: str = "on/off"):
+    ctx = SimpleNamespace(operation=operation, roles={"power": "sim:P"})
+    data = SimpleNamespace(simulated={"P": power})
+    return ctx, data
+
+
+def test_moves_switches_only_where_the_running_state_changes():
+    n = 1000
+    base = np.where((np.arange(n) // 50) % 2 == 0, 2000.0, 20.0)
+    ctx, data = _ctx_data(base)
+    moved = np.where((np.arange(n) // 60) % 2 == 0, 2000.0, 20.0)
+    assert moves_switches(ctx, data, {"P": moved - base})
+    assert not moves_switches(ctx, data, {"P": 0.05 * base})  # a gain: same switches
+    assert not moves_switches(*_ctx_data(base, "modulating"), {"P": moved - base})
+
+
+def _candidate(name: str, share: float, generic: bool, significant: bool = True) -> Candidate:
+    addition = EffectAddition(switch={} if generic else {f"use_{name}": 1.0}, parameters=(),
+                              around=({"apply": "output_lag", "variable": "T"},) if generic else ())
+    return Candidate(name, "", "", applicable=True, addition=addition, share=share, significant=significant)
+
+
+def test_model_and_generic_effects_take_turns_for_the_recalibrations():
+    ranked = [_candidate("clock", 0.4, True), _candidate("lag", 0.35, True), _candidate("gain", 0.3, True),
+              _candidate("cycling", 0.2, False), _candidate("loss", 0.1, False), _candidate("weak", 0.5, False, significant=False)]
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["clock", "cycling", "lag"]
+    assert [c.name for c in recalibration_choice(ranked, 1)] == ["clock"]
+    only_model = [c for c in ranked if c.addition.switch]
+    assert [c.name for c in recalibration_choice(only_model, 3)] == ["cycling", "loss"]
+
+
+@pytest.mark.parametrize("value, expected", [(0.6, True), (0.605, True), (0.9, False), (1.399, True)])
+def test_a_tuner_within_one_percent_of_a_bound_is_pinned(value, expected):
+    p = SimpleNamespace(min=0.6, max=1.4, scale="linear")
+    assert pinned(value, p) is expected
+
+
+@pytest.mark.slow
+def test_blind_cycling_by_minimum_run_and_off_times_is_found(tmp_path):
+    # settings of the development case, not of the unseen bench (benchmarks/diagnosis_blind.py)
+    from simgap.models.blind import BlindCase, run_case
+
+    case = BlindCase("air_source_hp", "cycling", strength={"TCycOff": 310.15, "dTCycHys": 2.0, "tCycMinRun": 1200.0,
+                                                           "tCycMinOff": 900.0}, seed=401)
+    result = run_case(case, tmp_path / "cycling", candidates=2, workers=1)
+    assert result["claimed"][:1] == ["cycling"], result
+    assert result["beyond_control"] > 0.2, result
