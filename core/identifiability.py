@@ -89,7 +89,7 @@ class Report:
         if not self.flagged:
             return []
         spans = ", ".join(f"{t.name} takes {t.low:.4g}–{t.high:.4g}" for t in self.tuners if not t.identifiable)
-        where = f"{self.near} evaluations within {100 * self.tolerance:g} % of the knee in every objective"
+        where = f"{self.near} evaluation{'' if self.near == 1 else 's'} within {100 * self.tolerance:g} % of the knee in every objective"
         if self.local:
             where += ", and a local probe around the knee"
         text = f"identifiability: {spans} at as good an error ({where}); these tuners are not identifiable from these data"
