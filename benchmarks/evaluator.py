@@ -1,19 +1,24 @@
-"""Evaluator scaling: speed-up of 2 dask workers over 1 on the same work, and CPU per evaluation by process.
+"""Evaluator scaling: speed-up of 2 workers over 1 on the same work, and CPU per evaluation by process.
 
-    python benchmarks/evaluator.py [--repeats 3]      # about 5 minutes on 2 cores
+    python benchmarks/evaluator.py [--repeats 3] [--executor local|dask|both]   # about 5 minutes on 2 cores
+
+``--executor local`` (the default) runs on what a local ``simgap run`` uses, the forked process
+pool of ``simgap.local_executor``; ``dask`` on a dask LocalCluster of process workers (what an
+external scheduler's workers do per task); ``both`` interleaves the two (local 1, local 2,
+dask 1, dask 2, …) and prints a row for each.
 
 Real FMU simulations (the quickstart zone model over 7 days at 10-minute steps) are made about
 50 ms and about 500 ms of CPU long by the model's internal Euler sub-step ``dt_internal``, chosen
 by timing the model's process CPU first (not wall time: a loaded machine stretches wall time).
-Each case runs the same real calibration (NSGA-II, same seed, same budget, real dask
-LocalCluster of process workers) through ``simgap.calibrate`` with 1 and with 2 workers,
+Each case runs the same real calibration (NSGA-II, same seed, same budget, real worker
+processes) through ``simgap.calibrate`` with 1 and with 2 workers,
 interleaved (1, 2, 1, 2 …) ``--repeats`` times, and prints medians:
 
 - speed-up          t(1 worker) / t(2 workers), t = wall time of the calibration loop from the
                     run's own summary (ask, evaluate, log, tell), medians of the interleaved runs
 - efficiency        speed-up / 2
-- CPU per eval      by process: this process over the whole ``calibrate()`` call (client and dask
-                    scheduler, cluster start and stop, plots: ``time.process_time``), the
+- CPU per eval      by process: this process over the whole ``calibrate()`` call (client, dask
+                    scheduler if any, plots: ``time.process_time``), the
                     worker processes (psutil, sampled every 50 ms while the run lasts, start-up
                     included); sim_cpu is one simulation's CPU measured here in-process,
                     sim_ms / metric_ms the wall times the run log holds (stretched by load);
@@ -172,20 +177,27 @@ def _cache() -> Path:
 
 
 def one_run(folder: Path, label: str, workers: int, repeat: int, data: Path, dt_internal: float,
-            population: int, evaluations: int) -> dict:
-    wf = folder / f"{label.strip('~ ')}_{workers}_{repeat}.yaml"
+            population: int, evaluations: int, executor: str = "local") -> dict:
+    wf = folder / f"{label.strip('~ ')}_{executor}_{workers}_{repeat}.yaml"
     wf.write_text(WORKFLOW.format(data=data, model=MODEL, dt_internal=dt_internal, population=population,
                                   evaluations=evaluations, out=folder / "runs"))
     prepared = prepare(wf)
     client_before = time.process_time()
     with WorkerCPU() as worker_cpu:
-        run_dir = calibrate(prepared, workers=workers)
+        if executor == "dask":
+            from simgap.executor import DaskExecutor
+
+            with DaskExecutor(workers=workers) as cluster:
+                run_dir = calibrate(prepared, executor=cluster)
+        else:
+            run_dir = calibrate(prepared, workers=workers)
     client_cpu = time.process_time() - client_before
     run = simgap.load_run(run_dir)
     ev = run.evaluations
     n = len(ev)
     return {
         "case": label,
+        "executor": executor,
         "workers": workers,
         "evals": n,
         "loop_wall_s": run.summary["timing"]["calibration_wall_s"],
@@ -196,21 +208,22 @@ def one_run(folder: Path, label: str, workers: int, repeat: int, data: Path, dt_
     }
 
 
-def one_case(folder: Path, label: str, target_cpu_s: float, population: int, evaluations: int, repeats: int):
+def one_case(folder: Path, label: str, target_cpu_s: float, population: int, evaluations: int, repeats: int,
+             executors: tuple[str, ...] = ("local",)):
     data = make_data(folder)
     dt_internal = dt_for(target_cpu_s)
     sim_cpu_ms = 1e3 * simulation_cpu(dt_internal)
     load_before = os.getloadavg()[0]
     runs = []
     for repeat in range(repeats):
-        for workers in (1, 2):
-            runs.append(one_run(folder, label, workers, repeat, data, dt_internal, population, evaluations))
-            print(f"  {label} run {repeat + 1} with {workers} worker(s): loop {runs[-1]['loop_wall_s']:.2f} s, "
-                  f"load {os.getloadavg()[0]:.2f}", flush=True)
-    table = pd.DataFrame(runs).groupby(["case", "workers"], as_index=False).median(numeric_only=True)
-    t1 = table.loc[table["workers"] == 1, "loop_wall_s"].iloc[0]
-    t2 = table.loc[table["workers"] == 2, "loop_wall_s"].iloc[0]
-    table["speed_up"] = [1.0, t1 / t2]
+        for executor in executors:
+            for workers in (1, 2):
+                runs.append(one_run(folder, label, workers, repeat, data, dt_internal, population, evaluations, executor))
+                print(f"  {label} {executor} run {repeat + 1} with {workers} worker(s): loop {runs[-1]['loop_wall_s']:.2f} s, "
+                      f"load {os.getloadavg()[0]:.2f}", flush=True)
+    table = pd.DataFrame(runs).groupby(["case", "executor", "workers"], as_index=False).median(numeric_only=True)
+    one = table[table["workers"] == 1].set_index("executor")["loop_wall_s"]
+    table["speed_up"] = [one[e] / t for e, t in zip(table["executor"], table["loop_wall_s"])]
     table["efficiency"] = table["speed_up"] / table["workers"]
     table["sim_cpu_ms"] = sim_cpu_ms
     table["framework_cpu_ms"] = table["client_cpu_ms"] + table["workers_cpu_ms"] - sim_cpu_ms - table["metric_ms"]
@@ -222,7 +235,10 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="only the 50 ms case")
+    parser.add_argument("--executor", choices=("local", "dask", "both"), default="local",
+                        help="local process pool (what a local run uses), a dask LocalCluster, or both interleaved")
     args = parser.parse_args(argv)
+    executors = ("local", "dask") if args.executor == "both" else (args.executor,)
     print(f"simgap {simgap.__version__}, {os.cpu_count()} cores, python {sys.version.split()[0]}, "
           f"load {os.getloadavg()}")
     t0 = time.perf_counter()
@@ -230,15 +246,15 @@ def main(argv=None) -> int:
     tables = []
     with tempfile.TemporaryDirectory() as tmp:
         for label, target, population, evaluations, _ in cases[: 1 if args.quick else 2]:
-            tables.append(one_case(Path(tmp), label, target, population, evaluations, args.repeats))
+            tables.append(one_case(Path(tmp), label, target, population, evaluations, args.repeats, executors))
     table = pd.concat(tables)
     pd.set_option("display.width", 200)
     print(f"\nmedians of {args.repeats} interleaved runs per row; CPU per evaluation in ms by process "
           "(sim_ms and metric_ms: wall inside the workers; sim_cpu_ms: CPU in-process)")
     print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
-    for label, _, _, _, target in cases[: len(tables)]:
-        two = table[(table["case"] == label) & (table["workers"] == 2)].iloc[0]
-        print(f"{label}: speed-up t(1)/t(2) {two['speed_up']:.2f} (target ≥ {target}), efficiency "
+    for (label, _, _, _, target), executor in [(c, e) for c in cases[: len(tables)] for e in executors]:
+        two = table[(table["case"] == label) & (table["executor"] == executor) & (table["workers"] == 2)].iloc[0]
+        print(f"{label} {executor}: speed-up t(1)/t(2) {two['speed_up']:.2f} (target ≥ {target}), efficiency "
               f"{two['efficiency']:.3f}, framework CPU {two['framework_cpu_ms']:.2f} ms/eval, "
               f"load {two['load_before']:.2f} → {two['load_after']:.2f}")
     print(f"benchmark wall time {time.perf_counter() - t0:.0f} s")

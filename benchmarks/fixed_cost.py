@@ -5,8 +5,8 @@
 Runs ``simgap run workflows/quickstart.yaml`` as a fresh process with two budgets (one
 generation of 40 and ten generations), interleaved (small, large, small, large …), and takes the
 CPU time of the process and all its descendants (``resource.getrusage(RUSAGE_CHILDREN)``: user +
-system of every reaped descendant, so dask's scheduler, nanny and workers are included once the
-run has shut them down). With medians C(small) and C(large):
+system of every reaped descendant, so the local worker processes, or dask's scheduler, nanny and
+workers, are included once the run has shut them down). With medians C(small) and C(large):
 
     per evaluation  = (C(large) − C(small)) / (large − small)
     fixed per run   = C(small) − small × per evaluation
@@ -78,10 +78,13 @@ def _sample_tree(pid: int, seen: dict) -> None:
         try:
             times = process.cpu_times()
             command = " ".join(process.cmdline())
+            name = process.name()
         except psutil.Error:
             continue
         if process.pid == pid:
             role = "client (simgap run: data, optimiser, scheduler, plots)"
+        elif name == "simgap-worker":
+            role = "local worker processes (forked, simgap.local_executor)"
         elif "multiprocessing" in command and "spawn_main" in command:
             role = "dask worker processes"
         elif "gcc" in command or "cc1" in command:
