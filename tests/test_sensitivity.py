@@ -152,3 +152,16 @@ def test_per_class_needs_classes(quickstart_text, write_workflow):
     prepared = prepare(load_workflow(write_workflow(quickstart_text)))
     with pytest.raises(SimgapError, match="per class needs calibration classes"):
         sensitivity.run(prepared, n=2, per="class")
+
+
+def test_per_segment_one_window_per_training_range(quickstart_text, write_workflow):
+    text = quickstart_text.replace('training: {start: "0%", end: "66.7%"}',
+                                   'training: [{start: "0%", end: "33%"}, {start: "34%", end: "66.7%"}]')
+    assert text != quickstart_text
+    prepared = prepare(load_workflow(write_workflow(text)))
+    assert len(prepared.training.cases) == 2
+    result = sensitivity.run(prepared, n=2, seed=1, workers=2, per="segment")
+    # labelled by each segment's first scored time (after its warm-up)
+    starts = [f"{case.reference_time + pd.Timedelta(seconds=float(case.output_time[0])):%Y-%m-%d %H:%M}" for case in prepared.training.cases]
+    assert sorted(set(result.windows["window"])) == sorted(starts)
+    assert result.evaluations == 2 * 5 and not result.left_out
