@@ -22,6 +22,7 @@ window in the same evaluation; no simulation is added.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -177,16 +178,16 @@ def windows(prepared: Prepared, per: str) -> Windows:
 
 def _window_rows(setup: EvaluationSetup, per: str) -> dict[str, np.ndarray]:
     """Which rows of the targets (all share the cases' output times) fall in each window."""
-    time = setup.targets[0].time
+    stamps = setup.targets[0].time
     if per == "day":
-        days = pd.DatetimeIndex(time).normalize()
+        days = pd.DatetimeIndex(stamps).normalize()
         return {f"{day:%Y-%m-%d}": np.asarray(days == day) for day in days.unique()}
     out, first = {}, 0
-    for case in setup.cases:
-        inside = np.zeros(len(time), dtype=bool)
+    for case in setup.cases:  # targets hold the cases' output times one after the other
+        inside = np.zeros(len(stamps), dtype=bool)
         inside[first:first + len(case.output_time)] = True
         first += len(case.output_time)
-        out[f"{pd.Timestamp(time[inside][0]):%Y-%m-%d %H:%M}"] = inside
+        out[f"{pd.Timestamp(stamps[inside][0]):%Y-%m-%d %H:%M}"] = inside
     return out
 
 
@@ -194,8 +195,6 @@ def _with_windows(setup: EvaluationSetup, targets: list[TargetData]):
     """Classes score each window copy on its own class's simulation."""
     if not setup.classes:
         return setup.classes
-    import dataclasses
-
     base = {t.name: i for i, t in enumerate(setup.targets)}
     owner = {i: run for run in setup.classes for i in run.targets}
     extra: dict[str, list[int]] = {}
