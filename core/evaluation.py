@@ -209,7 +209,19 @@ def evaluate(setup: EvaluationSetup, eval_id: int, params: dict[str, float], kee
         sim_time_s=sim_time,
         metric_time_s=metric_time,
         wall_time_s=time.perf_counter() - t0,
-        worker=f"{socket.gethostname()}:{os.getpid()}",
+        worker=_worker_label(),
     )
     return row
+
+
+_worker: tuple[int, str] = (0, "")
+
+
+def _worker_label() -> str:
+    """host:pid of this process, looked up once per process (a forked worker has its own pid)."""
+    global _worker
+    pid = os.getpid()
+    if _worker[0] != pid:
+        _worker = (pid, f"{socket.gethostname()}:{pid}")
+    return _worker[1]
 
