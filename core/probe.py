@@ -5,7 +5,8 @@ One simulation at the start values, then each tuner alone at its lower and at it
 (2·tuners+1 evaluations of the training data through the run's executor, so a bound that crashes
 the model costs that evaluation only). A tuner whose bounds move no error of any target is
 *inert*, by the same rule as the sensitivity analysis (``sensitivity.inert_tuners``): a model
-that reads a parameter but does not use it, as a compiler may fold it. A bound at which the
+that reads a parameter but does not use it, as a compiler may fold it. One that moves every error
+by less than 5 % of the top tuner's change is *weak* (Morris's non-influential rule). A bound at which the
 simulation fails is named with the model's message.
 """
 
@@ -22,7 +23,7 @@ import pandas as pd
 from .errors import SimgapError
 from .evaluation import STATUS_OK
 from .local_executor import executor_for_workflow
-from .sensitivity import inert_tuners
+from .sensitivity import INFLUENCE_SHARE, inert_tuners, shares_of_top
 from .setup import Prepared
 
 BOUNDS = ("lower", "upper")
@@ -44,6 +45,9 @@ class ProbeResult:
     """One row per (error column, tuner): the error at the start values and at each bound (NaN
     where that simulation failed), ``effect`` the larger change of the two, ``rank``."""
     inert: list[str]
+    weak: dict[str, float]
+    """Tuners (not inert, not failing) whose largest change is below ``INFLUENCE_SHARE`` of the
+    top tuner's in every error column (Morris's non-influential rule), with that largest share."""
     failing: list[FailingBound]
     evaluations: int
     wall_s: float
@@ -106,8 +110,11 @@ def probe(prepared: Prepared, *, executor=None, workers: int | None = None) -> P
     table = pd.DataFrame.from_records(records)
     table["rank"] = table.groupby("error")["effect"].rank(ascending=False, method="first").astype(int)
     # a tuner that makes the model fail at a bound does something
-    inert = [n for n in inert_tuners(table, "effect", names) if n not in {f.tuner for f in failing}]
-    return ProbeResult(params[0], table, inert, failing, len(params), time.perf_counter() - t0)
+    fails = {f.tuner for f in failing}
+    inert = [n for n in inert_tuners(table, "effect", names) if n not in fails]
+    shares = {n: max(v) for n, v in shares_of_top(table, "effect", names).items()}
+    weak = {n: share for n, share in shares.items() if share < INFLUENCE_SHARE and n not in inert and n not in fails}
+    return ProbeResult(params[0], table, inert, weak, failing, len(params), time.perf_counter() - t0)
 
 
 def report(prepared: Prepared, result: ProbeResult) -> list[str]:
@@ -123,6 +130,10 @@ def report(prepared: Prepared, result: ProbeResult) -> list[str]:
         low, high = bounds.get(name, (math.nan, math.nan))
         lines.append(f"note: inert tuner {name}: no error of any target moves between its bounds [{low:g}, {high:g}]; "
                      "the model reads it but does not use it (folded at compile time?) - drop it or check the model")
+    if result.weak:
+        shown = ", ".join(f"{n} ({100 * share:.2g} %)" for n, share in result.weak.items())
+        lines.append(f"note: weak tuners: {shown} of the top tuner's change at most, in every error; from this one point: "
+                     "confirm with simgap sensitivity before fixing them, or check that the training data cover the states they act in")
     for f in result.failing:
         lines.append(f"note: tuner {f.tuner} at its {f.bound} bound {f.value:g} makes the simulation fail: {f.error}")
     return lines

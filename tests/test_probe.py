@@ -27,7 +27,7 @@ def test_check_probe_names_the_inert_tuner(tmp_path):
     assert "note: inert tuner h_folded: no error of any target moves between its bounds [1, 50]" in got.output
     assert got.output.count("inert tuner") == 1 and "makes the simulation fail" not in got.output
     result = probe(prepare(load_workflow(path)), workers=2)
-    assert result.inert == ["h_folded"] and result.failing == []
+    assert result.inert == ["h_folded"] and result.failing == [] and result.weak == {}
     effects = result.table.groupby("tuner")["effect"].min()  # over every error column
     assert effects["h_folded"] == 0.0 and (effects[["R1", "R2", "C"]] > 0).all()
     assert result.start["h_folded"] == 10.0
