@@ -82,6 +82,10 @@ def test_model_and_generic_effects_take_turns_for_the_recalibrations():
     assert [c.name for c in recalibration_choice(ranked, 1)] == ["clock"]
     only_model = [c for c in ranked if c.addition.switch]
     assert [c.name for c in recalibration_choice(only_model, 3)] == ["cycling", "loss"]
+    # an effect standing out on the envelopes only gets a slot beyond the budget
+    ranked[-1].envelope, ranked[-1].envelope_significant = {"P": {"share": 0.6, "chance": 0.1, "p_value": 1e-6}}, True
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["clock", "cycling", "lag", "weak"]
+    assert recalibration_choice(ranked, 0) == []
 
 
 @pytest.mark.parametrize("value, expected", [(0.6, True), (0.605, True), (0.9, False), (1.399, True)])

@@ -66,6 +66,10 @@ class Candidate:
     responses: list[tuple[dict[str, float], dict[str, np.ndarray]]] = field(default_factory=list, repr=False)
     moved_switches: bool = False
     """Some screened setting of the effect moves the unit's switching (it was tested on envelopes)."""
+    envelope: dict[str, dict] = field(default_factory=dict)
+    """Per target, the envelope test of the settings that move the switching."""
+    envelope_significant: bool = False
+    """The envelope test passes the screening thresholds: earns a recalibration of its own."""
     best_setting: int | None = None
     """Index in ``responses`` of the setting that explained most on the effect's best target."""
     """(effect parameter values, simulated change per target) at every screened setting."""
@@ -73,7 +77,7 @@ class Candidate:
     @property
     def claimed(self) -> bool:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap."""
-        if not self.significant:
+        if not (self.significant or (self.envelope_significant and self.gap_shrink is not None)):
             return False
         if self.gap_shrink is None:
             # not recalibrated: claimed on its signature only when no recalibration was asked
@@ -108,6 +112,8 @@ class Candidate:
             "first": self.first,
             "claimed": self.claimed,
             "per_target": self.per_target,
+            "envelope": self.envelope,
+            "envelope_significant": self.envelope_significant,
         }
 
 
@@ -449,19 +455,21 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         N_kept = N[:, 1:]
         views = [(N, rt, None)]
         if width > 1:
-            # the residual's envelope (its rolling RMS over the window): an effect that moves
-            # the switching times (a thermostat, minimum run and off times) makes cycles that the
-            # simulation cannot put in phase with the record, so sample by sample its change
-            # explains little (a double penalty), but where the record cycles more or less than
-            # the model, the residual is large, wherever the phase
+            # the residual's envelope (its rolling standard deviation over the window): an effect
+            # that moves the switching times (a thermostat, minimum run and off times) makes
+            # cycles that the simulation cannot put in phase with the record, so sample by
+            # sample its change explains little (a double penalty), but where the record cycles
+            # more or less than the model, the residual fluctuates, whatever the phase. The
+            # deviation from the window's own mean, not the RMS: a slowly varying bias (a heat
+            # loss where the water is hot) has no fluctuation to lend a cycling signature
             mean = _window_mean(data.segment[mask], width)
 
             def envelope(matrix, mean=mean, N=N):
                 cleared = _clear(np.asarray(matrix, dtype=float), N)
-                return np.sqrt(np.maximum(mean(cleared * cleared), 0.0))
+                return np.sqrt(np.maximum(mean(cleared * cleared) - mean(cleared) ** 2, 0.0))
 
             Ne = np.ones((int(mask.sum()), 1))
-            views.append((Ne, _clear(np.sqrt(np.maximum(mean(rt[:, None] ** 2), 0.0)), Ne)[:, 0], envelope))
+            views.append((Ne, _clear(envelope(r[mask][:, None]), Ne)[:, 0], envelope))
         prepared_targets[t] = (mask, views)
         offset_targets[t] = (mask, N_kept, _clear(r[mask][:, None], N_kept)[:, 0])
     for effect in effects:
@@ -482,7 +490,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         cand.responses = effect_responses(ctx, addition) if addition is not None else []
         responses = [change for _, change in cand.responses]
         moved = [moves_switches(ctx, data, change) for change in responses]
-        best_target_share = -math.inf
+        best_target_share = best_envelope_share = -math.inf
         cand.moved_switches = any(moved)
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
@@ -498,25 +506,25 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
                 columns = [{f"simulated change of {t} with the effect on (setting {k})": resp[t]} for k, resp in enumerate(responses)]
             else:
                 columns = [dict(features)]
-            # every design in every view (samples, window means); the max statistic pays for all
-            designs, residuals, names, which = [], [], [], []
+            designs, names, envelopes, which = [], [], [], []
             for k, cols in enumerate(columns):
                 n_k, X = _standardise(cols, mask)
                 names += n_k
-                N = views[0][0]
-                designs.append(_clear(X, N))
-                residuals.append(rt)
-                which.append(k)
+                designs.append(_clear(X, views[0][0]))
                 if len(views) > 1 and responses and moved[k]:
-                    Ne, r_env, envelope = views[1]
-                    designs.append(_clear(envelope(X), Ne))
-                    residuals.append(r_env)
+                    Ne, _, envelope = views[1]
+                    envelopes.append(_clear(envelope(X), Ne))
                     which.append(k)
-            observed, chance, p, fitted, best = max_shift_test(residuals, designs)
-            if residuals[best] is not rt:
-                # the fit of the envelopes; the sample-level fit of the same design is what
-                # reproduces the residual (the warm start and the training/validation split use it)
-                fitted = explained_by_lag(rt, designs[best - 1])[1]
+            observed, chance, p, fitted, best = max_shift_test(rt, designs)
+            if responses and (cand.best_setting is None or observed - chance > best_target_share):
+                cand.best_setting, best_target_share = best, observed - chance
+            if envelopes:
+                # the settings that move the switching, on the envelopes (a separate piece of
+                # evidence: it earns a recalibration, the ranking stays sample by sample)
+                e_obs, e_chance, e_p, _, e_best = max_shift_test(views[1][1], envelopes)
+                cand.envelope[t] = {"share": e_obs, "chance": e_chance, "p_value": e_p}
+                if e_obs - e_chance > best_envelope_share:
+                    cand.best_setting, best_envelope_share = which[e_best], e_obs - e_chance
             if keeps_offset:
                 # a constant cannot be tested by shifting it in time: the bias that re-tuning
                 # leaves (tuners cleared, the constant kept) gets its own test, paid for by a
@@ -530,8 +538,6 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             full[mask] = fitted
             cand.fitted[t] = full
             cand.per_target[t] = {"share": observed, "chance": chance, "p_value": p}
-            if responses and (cand.best_setting is None or observed - chance > best_target_share):
-                cand.best_setting, best_target_share = which[best], observed - chance
             shares.append(observed - chance)
             raws.append(observed)
             ps.append(p)
@@ -543,6 +549,10 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         # one effect, several targets: Bonferroni over the targets it was tested on
         cand.p_value = float(min(1.0, min(ps) * len(ps))) if ps else 1.0
         cand.significant = cand.p_value <= config.significance and cand.share >= config.min_share
+        if cand.envelope:
+            e_share = max(v["share"] - v["chance"] for v in cand.envelope.values())
+            e_p = min(1.0, min(v["p_value"] for v in cand.envelope.values()) * len(cand.envelope))
+            cand.envelope_significant = e_p <= config.significance and e_share >= config.min_share
         cand.min_shrink = config.min_shrink
         cand.confirm_significance = config.confirm_significance
     candidates.sort(key=lambda c: (not c.applicable, -c.share))

@@ -46,7 +46,7 @@ def start_responses(cand: Candidate) -> list:
     switching (tested on the envelopes), the sample-level fit of the warm start prefers a
     setting that does nothing over cycles out of phase; it starts at the setting the screening
     found best instead."""
-    if cand.best_setting is not None and cand.moved_switches:
+    if cand.best_setting is not None and cand.envelope:
         return [cand.responses[cand.best_setting]]
     return cand.responses
 
@@ -66,6 +66,11 @@ def recalibration_choice(candidates: list[Candidate], budget: int) -> list[Candi
         for family in families:
             if family and len(chosen) < budget:
                 chosen.append(family.pop(0))
+    # an effect that moves the switching and stands out on the envelopes gets a slot beyond the
+    # budget: sample by sample its cycles are out of phase, so its share there says little
+    switching = [c for c in candidates if c.envelope_significant and c.addition is not None and c not in chosen]
+    if budget > 0 and switching:
+        chosen.append(max(switching, key=lambda c: max(v["share"] - v["chance"] for v in c.envelope.values())))
     return chosen
 
 
