@@ -19,6 +19,7 @@ non-identifiable tuner but does not invent one.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -336,14 +337,28 @@ def from_run(frame: pd.DataFrame, pareto: pd.DataFrame, parameter_names, objecti
     return analyse(params, objectives, int(rows[0]), bounds, tolerance)
 
 
-def write(report: Report, run_dir: Path) -> None:
-    """The table (``identifiability.csv``) and a plot of the near-optimal set."""
+def write(report: Report, run_dir: Path, plot: bool = True) -> None:
+    """The table (``identifiability.csv``) and, with ``plot``, a plot of the near-optimal set
+    (:func:`write_plot`; a run draws it beside its other plots)."""
     if not report.tuners:
         return
     table = pd.DataFrame([t.__dict__ for t in report.tuners])
     table.insert(1, "near_optimal", report.near)
     table.to_csv(run_dir / TABLE, index=False)
-    _plot(report, run_dir / "plots" / PLOT)
+    if plot:
+        write_plot(report, run_dir)
+
+
+def write_plot(report: Report, run_dir: Path) -> None:
+    """``plots/identifiability.png``, written under a temporary name and renamed: a reader (the
+    report page, drawn meanwhile by another process) never sees half a file."""
+    if not report.tuners:
+        return
+    path = Path(run_dir) / "plots" / PLOT
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    _plot(report, tmp)
+    os.replace(tmp, path)
 
 
 def _plot(report: Report, path: Path) -> None:
@@ -380,4 +395,4 @@ def _plot(report: Report, path: Path) -> None:
     fig.suptitle(f"near-optimal set ({report.near} evaluations within {100 * report.tolerance:g} % of the knee); red: not identifiable")
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.subplots_adjust(left=0.1, right=0.98, bottom=0.08, top=0.93, wspace=0.3, hspace=0.15)
-    fig.savefig(path, dpi=80)
+    fig.savefig(path, dpi=80, format="png")
