@@ -273,7 +273,8 @@ class ExecutionConfig(Section):
     timeout: Duration = "10min"
     """Longest a single simulation may take before it is recorded as failed."""
     batch_size: int | None = Field(None, ge=1)
-    """Evaluations per dask task (default: a generation split into 4 tasks per worker)."""
+    """Evaluations per task (default: sized from the measured evaluation time, about 50 ms of work per
+    batch on local workers, 0.25 s per dask task, and at least two batches per worker and generation)."""
     tls: TLSConfig | None = None
     """Certificates for a tls:// scheduler address; a plain tcp:// address beyond this machine
     lets anyone who reaches the scheduler run code on its workers."""
