@@ -274,7 +274,7 @@ class ExecutionConfig(Section):
     """Longest a single simulation may take before it is recorded as failed."""
     batch_size: int | None = Field(None, ge=1)
     """Evaluations per task (default: sized from the measured evaluation time, about 50 ms of work per
-    batch on local workers, 0.25 s per dask task, and at least two batches per worker and generation)."""
+    batch on local workers, 0.25 s per dask task; a generation gives each local worker at least 2, each dask worker 4)."""
     tls: TLSConfig | None = None
     """Certificates for a tls:// scheduler address; a plain tcp:// address beyond this machine
     lets anyone who reaches the scheduler run code on its workers."""
