@@ -3,7 +3,7 @@ and the run's wall-time overhead against the same seeded run without faults.
 
     python benchmarks/faults.py [--evaluations 48] [--workers 2] [--repeats 1]
 
-Runs `simgap run` (a real process, a real LocalCluster) on the fault-injection FMU
+Runs `simgap run` (a real process with its real local worker processes) on the fault-injection FMU
 (examples/models/fault_zone): the quickstart calibration with a fifth tuner `fault` whose value
 selects a segfault, an abort, a hang inside a step or NaN outputs in a region of [0, 1], and a
 run in which one worker process is SIGKILLed mid-run. "Lost" counts evaluations outside the fault
@@ -56,7 +56,9 @@ def _workers_below(pid: int) -> list[psutil.Process]:
     found = []
     for p in psutil.Process(pid).children(recursive=True):
         try:
-            if "multiprocessing.spawn" in " ".join(p.cmdline()) and "resource_tracker" not in " ".join(p.cmdline()):
+            command = " ".join(p.cmdline())
+            # a local run's forked pool (simgap.local_executor), or dask workers spawned by a nanny
+            if p.name() == "simgap-worker" or ("multiprocessing.spawn" in command and "resource_tracker" not in command):
                 found.append(p)
         except psutil.Error:
             pass

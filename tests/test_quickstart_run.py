@@ -1,4 +1,4 @@
-"""The quickstart, end to end on real dask workers with the real FMU."""
+"""The quickstart, end to end on real local worker processes with the real FMU."""
 
 from __future__ import annotations
 
