@@ -113,7 +113,7 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         start.update({p.name: p.lower if p.neutral is None else p.neutral for p in cand.addition.parameters})
         start = local_fit(ctx, None, both, start=start)
         weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
-        result = recalibrate(ctx, name, both, folder / "recalibration" / name, weights, control=first_result, start=start)
+        result = recalibrate(ctx, name, both, folder / "recalibration" / name, weights, control=first_result, start=start, ablate=False)
         result["on_top_of"] = first.name
         cand.first = first.name
         on_training = cand_result.get("confirmed_on") == "training"
