@@ -56,19 +56,20 @@ TUNERS = {  # the quickstart's bounds
 # AixCaliBuHA's half (runs in the other venv: imports nothing from simgap)
 
 
-def aixcalibuha_calibrator(fmu: str, work: str, evaluations: int, aligned: bool):
-    """AixCaliBuHA's calibrator for the race. fmpy, which it simulates with, records an output
-    after each step but before the next row's inputs are applied, so at the data's 600 s output
-    interval an output that follows an input at once (P_el follows u_hp) lags it by one row.
-    With `aligned`, the measured P_el is compared with the sample one row later, which removes
-    that lag up to the state change within a step: the set-up a careful AixCaliBuHA user would
-    choose once they saw it."""
+def aixcalibuha_class(aligned: bool):
+    """AixCaliBuHA's calibration class for the quickstart's training days: goals (CV(RMSE) of
+    T_zone and P_el, weighted), tuners with the quickstart's bounds, the measured inputs; and the
+    fixed start temperature. fmpy, which AixCaliBuHA simulates with, records an output after each
+    step but before the next row's inputs are applied, so at the data's 600 s output interval an
+    output that follows an input at once (P_el follows u_hp) lags it by one row. With `aligned`,
+    the measured P_el is compared with the sample one row later, which removes that lag up to the
+    state change within a step: the set-up a careful AixCaliBuHA user would choose once they saw it."""
     import logging
 
     import numpy as np
     import pandas as pd
-    from aixcalibuha import CalibrationClass, Calibrator, Goals, TunerParas
-    from ebcpy import FMU_API, TimeSeriesData
+    from aixcalibuha import CalibrationClass, Goals, TunerParas
+    from ebcpy import TimeSeriesData
 
     logging.disable(logging.WARNING)
     frame = pd.read_csv(DATA)
@@ -95,13 +96,22 @@ def aixcalibuha_calibrator(fmu: str, work: str, evaluations: int, aligned: bool)
     cal_class = CalibrationClass(
         name="training", start_time=0.0, stop_time=TRAINING_END_S, goals=goals, tuner_paras=tuners, inputs=inputs
     )
+    return cal_class, tuners, {"T_zone_start": float(frame["T_zone_degC"].iloc[0] + KELVIN)}
+
+
+def aixcalibuha_calibrator(fmu: str, work: str, evaluations: int, aligned: bool):
+    """AixCaliBuHA's calibrator for the race (see aixcalibuha_class for `aligned`)."""
+    from aixcalibuha import Calibrator
+    from ebcpy import FMU_API
+
+    cal_class, tuners, fixed = aixcalibuha_class(aligned)
     sim_api = FMU_API(model_name=fmu, working_directory=work, n_cpu=1, log_fmu=False)
     sim_api.set_sim_setup({"output_interval": 600.0, "start_time": 0.0, "stop_time": TRAINING_END_S})
     calibrator = Calibrator(
         working_directory=work,
         sim_api=sim_api,
         calibration_class=cal_class,
-        fixed_parameters={"T_zone_start": float(frame["T_zone_degC"].iloc[0] + KELVIN)},
+        fixed_parameters=fixed,
         max_itercount=evaluations,
         show_plot=False,
         create_tsd_plot=False,
