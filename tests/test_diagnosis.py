@@ -103,6 +103,7 @@ def _quick(effect, seed):
     return BlindCase("air_source_hp", effect, seed=seed, seasons=("autumn", "autumn"), population=12, generations=4)
 
 
+@pytest.mark.slow  # 30-60 s on 2 cores; the CI suite must stay under 10 min
 def test_blind_sensor_lag_is_found_and_shrinks(tmp_path):
     result = run_case(_quick("sensor_lag", 3), tmp_path / "lag", candidates=1)
     assert result["ranking"][0] == "sensor_lag", result
@@ -117,6 +118,7 @@ def test_blind_sensor_lag_is_found_and_shrinks(tmp_path):
     assert data["recalibration"][0]["after"]
 
 
+@pytest.mark.slow  # 30-60 s on 2 cores; the CI suite must stay under 10 min
 def test_blind_heat_loss_absorbed_by_a_tuner_is_still_confirmed(tmp_path):
     # the base calibration imitates the loss with a lower heat-output scale; switched on at that
     # solution the loss counts twice: only a recalibration from the joint local fit confirms it

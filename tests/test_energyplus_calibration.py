@@ -27,6 +27,7 @@ MODEL_VALUES = np.array([0.04, 3.5])
 TRUTH = {"wall_conductivity": 0.05, "heat_pump_COP": 3.2}
 
 
+@pytest.mark.slow  # 30-60 s on 2 cores; the CI suite must stay under 10 min
 def test_nelder_mead_on_simulate_recovers_known_values_within_5_percent():
     simulator = make_simulator(
         parameters={name: PARAMETERS[name] for name in TUNERS},

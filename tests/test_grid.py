@@ -208,6 +208,7 @@ def _run_dtw_vs_mse(tmp_path, **changes) -> pd.DataFrame:
     return table.set_index("metric").drop(columns="segments")
 
 
+@pytest.mark.slow  # 30-60 s on 2 cores; the CI suite must stay under 10 min
 def test_dtw_vs_mse_reduced(tmp_path):
     """CI version: tiny budgets on 1.5 days; the table's shape and the 5-min structure preferences."""
     values = _run_dtw_vs_mse(tmp_path, budget=20, population=10, training_end="45%")
