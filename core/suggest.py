@@ -90,7 +90,7 @@ def where_key_belongs(root: type | None, data, loc: tuple) -> str:
     if section is None:
         return ""
     if key in _plugin_option_names(section, _value_at(data, parent_loc)):
-        return f" here; it is an option of this plugin and belongs under 'options:'"
+        return " here; it is an option of this plugin and belongs under 'options:'"
     for name, field_info in section.model_fields.items():  # one level deeper
         inner = _section_at(section, (name,))
         if inner is not None and key in inner.model_fields:

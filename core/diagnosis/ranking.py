@@ -363,7 +363,6 @@ def moves_switches(ctx: Context, data, change: dict[str, np.ndarray]) -> bool:
     """True if the effect's simulated change moves the unit's switching: the running state
     read from the simulated power (on/off only where the power is two-state) differs on at
     least 1 % of the samples. Only such an effect is also tested on the envelopes."""
-    from .context import running_level
 
     if ctx.operation != "on/off":
         return False

@@ -107,7 +107,6 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
         from sklearn.exceptions import ConvergenceWarning
 
         n = X.shape[1]
-        models = []
         with warnings.catch_warnings():
             # length scales at their bound mean "this tuner barely matters", which is an answer
             warnings.simplefilter("ignore", ConvergenceWarning)
