@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import ipaddress
 import logging
-import math
 import os
 import time
 from concurrent.futures import CancelledError
@@ -30,6 +29,7 @@ from urllib.parse import urlparse
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from . import isolation
+from .batching import BatchSizer
 from .errors import SimgapError
 from .evaluation import EvaluationSetup, evaluate
 from .isolation import ISOLATION_TIME_S, ISOLATION_TRIES, evaluate_forked  # noqa: F401  (re-exported)
@@ -153,7 +153,7 @@ class DaskExecutor:
         self.cluster = None
         self._shared: dict[int, tuple[EvaluationSetup, str]] = {}
         self._executing_since: dict[object, float] = {}
-        self._seconds_per_evaluation: float | None = None
+        self._sizer = BatchSizer(TASK_SECONDS, batches_per_worker=4, batch_size=batch_size)
         self.restarts = 0
         self.isolated = 0
 
@@ -251,28 +251,6 @@ class DaskExecutor:
             shared = self._shared[id(setup)] = (setup, key)  # the setup is kept: its id stays its own
         return shared[1]
 
-    def _chunks(self, jobs: list) -> list[list]:
-        """Tasks of about TASK_SECONDS of work: enough evaluations per task that scheduling
-        (a few ms a task) stays small, few enough that no worker idles long at the end of a
-        generation while another finishes. Until evaluations have been timed, one per task."""
-        if self.batch_size:
-            return [jobs[i : i + self.batch_size] for i in range(0, len(jobs), self.batch_size)]
-        size = 1
-        if self._seconds_per_evaluation:
-            size = max(1, round(TASK_SECONDS / self._seconds_per_evaluation))
-            size = min(size, max(1, len(jobs) // (4 * self.n_workers)))
-        n = max(1, round(len(jobs) / size))
-        share, extra = divmod(len(jobs), n)
-        bounds = [i * share + min(i, extra) for i in range(n + 1)]
-        return [jobs[a:b] for a, b in zip(bounds, bounds[1:])]
-
-    def _learn_timing(self, rows: list[dict]) -> None:
-        times = [r["wall_time_s"] for r in rows if r.get("wall_time_s") and math.isfinite(r["wall_time_s"])]
-        if times:
-            latest = sum(times) / len(times)
-            previous = self._seconds_per_evaluation
-            self._seconds_per_evaluation = latest if previous is None else 0.7 * previous + 0.3 * latest
-
     def _isolation_limit(self, setup: EvaluationSetup) -> float:
         return isolation.isolation_limit_s(setup)
 
@@ -308,7 +286,7 @@ class DaskExecutor:
             submitted[fut] = ("one", [(eval_id, params_of[eval_id])], time.monotonic(), tries)
             self.isolated += 1
 
-        for chunk in self._chunks(jobs):
+        for chunk in self._sizer.split(jobs, self.n_workers):
             submit_chunk(chunk)
         rows: dict[int, dict] = {}
         pending = set(submitted)
@@ -317,7 +295,7 @@ class DaskExecutor:
         def deliver(got):
             for row in got:
                 rows[row["eval_id"]] = row
-            self._learn_timing(got)
+            self._sizer.learn(got)
             if on_done is not None:
                 on_done(got)
 

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import collections
 import logging
-import math
 import multiprocessing
 import multiprocessing.connection
 import os
@@ -39,6 +38,7 @@ import time
 from typing import Callable
 
 from . import isolation
+from .batching import BatchSizer
 from .evaluation import EvaluationSetup, evaluate
 from .isolation import ISOLATION_TRIES, evaluate_forked, failed_row
 
@@ -131,7 +131,7 @@ class LocalExecutor:
         self._workers: list[_Worker] = []
         self._setups: dict[str, bytes] = {}
         self._shared: dict[int, tuple[EvaluationSetup, str]] = {}
-        self._seconds_per_evaluation: float | None = None
+        self._sizer = BatchSizer(TASK_SECONDS, batches_per_worker=2, batch_size=batch_size)
         self._next_task = 0
         self.restarts = 0
         self.isolated = 0
@@ -200,27 +200,6 @@ class LocalExecutor:
             shared = self._shared[id(setup)] = (setup, key)
         return shared[1]
 
-    def _batches(self, jobs: list) -> list[list]:
-        """Batches of about TASK_SECONDS of work, at least two per worker so the end of a
-        generation balances; one evaluation per batch until evaluations have been timed."""
-        if self.batch_size:
-            return [jobs[i : i + self.batch_size] for i in range(0, len(jobs), self.batch_size)]
-        size = 1
-        if self._seconds_per_evaluation:
-            size = max(1, round(TASK_SECONDS / self._seconds_per_evaluation))
-            size = min(size, max(1, len(jobs) // (2 * self.n_workers)))
-        n = max(1, round(len(jobs) / size))
-        share, extra = divmod(len(jobs), n)
-        bounds = [i * share + min(i, extra) for i in range(n + 1)]
-        return [jobs[a:b] for a, b in zip(bounds, bounds[1:])]
-
-    def _learn_timing(self, rows: list[dict]) -> None:
-        times = [r["wall_time_s"] for r in rows if r.get("wall_time_s") and math.isfinite(r["wall_time_s"])]
-        if times:
-            latest = sum(times) / len(times)
-            previous = self._seconds_per_evaluation
-            self._seconds_per_evaluation = latest if previous is None else 0.7 * previous + 0.3 * latest
-
     def run(
         self,
         setup: EvaluationSetup,
@@ -255,7 +234,7 @@ class LocalExecutor:
         def deliver(got):
             for row in got:
                 rows[row["eval_id"]] = row
-            self._learn_timing(got)
+            self._sizer.learn(got)
             if on_done is not None:
                 on_done(got)
 
@@ -293,7 +272,7 @@ class LocalExecutor:
             queue.extendleft(reversed(ours))
             self._replace(worker)
 
-        queue.extend(task("batch", chunk) for chunk in self._batches(jobs))
+        queue.extend(task("batch", chunk) for chunk in self._sizer.split(jobs, self.n_workers))
         while len(rows) < len(jobs):
             if deadline is not None and time.monotonic() >= deadline:
                 break  # tasks still outstanding finish on their workers; their rows are ignored
