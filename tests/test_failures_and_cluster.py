@@ -2,19 +2,14 @@
 
 from __future__ import annotations
 
-import os
-import socket
-import subprocess
-import sys
 import time
-from pathlib import Path
 
-import pytest
 from click.testing import CliRunner
 
 import simgap
 from simgap.cli import EXIT_NO_RESULT, main
 from tests.conftest import set_budget
+from tests.test_faults import _free_port, external_cluster  # noqa: F401  (the fixture: a scheduler and two `dask worker`s)
 
 
 def test_failing_simulations_are_logged_and_the_run_completes(quickstart_text, write_workflow):
@@ -43,55 +38,6 @@ def test_simulation_timeout_is_a_failed_evaluation(quickstart_text, write_workfl
     ev = simgap.load_run(path.parent / "runs").evaluations
     assert (ev["status"] == "failed").all()
     assert ev["error"].str.startswith("timeout").all()
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture
-def external_cluster(tmp_path):
-    """A dask scheduler and two single-threaded workers, each its own process, on 127.0.0.1."""
-    port = _free_port()
-    address = f"tcp://127.0.0.1:{port}"
-    bindir = Path(sys.executable).parent
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    procs = [
-        subprocess.Popen(
-            [str(bindir / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=tmp_path,
-        )
-    ]
-    for i in range(2):
-        procs.append(
-            subprocess.Popen(
-                [str(bindir / "dask"), "worker", address, "--nthreads", "1", "--nworkers", "1", "--no-dashboard",
-                 "--local-directory", str(tmp_path / f"w{i}")],
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=tmp_path,
-            )
-        )
-    from distributed import Client
-
-    deadline = time.monotonic() + 60
-    while True:
-        try:
-            with Client(address, timeout="2s") as client:
-                client.wait_for_workers(2, timeout=30)
-            break
-        except (OSError, TimeoutError):
-            if time.monotonic() > deadline:
-                raise
-            time.sleep(0.5)
-    yield address
-    for p in procs[::-1]:
-        p.kill()  # test processes: no state worth a graceful shutdown
-    for p in procs:
-        try:
-            p.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            p.kill()
 
 
 def test_calibration_on_an_external_scheduler(quickstart_text, write_workflow, external_cluster):
