@@ -23,7 +23,6 @@ from __future__ import annotations
 import collections
 import ctypes
 import math
-import threading
 import time
 import warnings
 from typing import Callable, Mapping
@@ -34,6 +33,7 @@ import simgap
 
 from . import runtime as fmu_runtime
 from .steploop import CHUNK_SECONDS, COMPILE_AFTER_SECONDS
+from .steploop import _ProcessState as _LoopState  # the same per-process state as the FMI 2.0 loop
 
 FLOAT64 = "Float64"
 FLOATS = ("Float64", "Float32")
@@ -283,15 +283,7 @@ _MAX_CHUNK = 1 << 20
 _FUNCTION_NAMES = {1: "fmi3SetFloat64", 2: "fmi3GetFloat64", 3: "fmi3DoStep"}
 
 
-class _LoopState:
-    def __init__(self):
-        self.python_seconds = 0.0
-        self.compiled = None  # the numba loop, once built
-        self.failed = False  # numba missing or the compilation failed: stay in Python
-        self.lock = threading.Lock()
-
-
-_state = _LoopState()
+_state = _LoopState()  # this module's own instance: the FMI 3.0 loop compiles separately
 
 
 def compiled_loop_in_use() -> bool:
