@@ -1,6 +1,11 @@
 """Surrogate-assisted gp_front against NSGA-II: hypervolume against the number of simulations.
 
     python benchmarks/expensive.py [--case quickstart] [--seeds 5] [--nsga2-budget 2400] [--gp-budget 480]
+                                   [--store DIR]
+
+With ``--store DIR`` each run's objectives are kept as ``DIR/<case>_<optimiser>_<seed>_<budget>.npy`` and a run
+already stored there is read instead of run again: a long study (the air-source case takes hours
+on 2 cores) can be stopped and continued, and its table printed again without simulating.
 
 Real runs (real FMU through fmpy, dask workers) of the shipped workflow with only the optimiser
 block changed. Hypervolume (moocore) of log10 objectives, normalised by the best and worst
@@ -71,6 +76,7 @@ def main(argv=None) -> None:
     parser.add_argument("--gp-budget", type=int, default=480)
     parser.add_argument("--batch", type=int, default=8)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--store", type=Path, help="keep each run's objectives here and reuse the ones already kept")
     args = parser.parse_args(argv)
     print(f"load before {os.getloadavg()}", flush=True)
     runs = {"nsga2": [], "gp_front": []}
@@ -81,6 +87,11 @@ def main(argv=None) -> None:
                 ("nsga2", f"plugin: nsga2\n  options: {{population: {args.nsga2_population}}}", args.nsga2_budget),
                 ("gp_front", f"plugin: gp_front\n  options: {{batch: {args.batch}}}", args.gp_budget),
             ):
+                stored = args.store / f"{args.case}_{name}_{seed}_{budget}.npy" if args.store else None
+                if stored is not None and stored.exists():
+                    runs[name].append(np.load(stored))
+                    print(f"  {name} seed {seed}: {budget} simulations, read from {stored}", flush=True)
+                    continue
                 out = Path(tmp) / f"{name}_{seed}"
                 path = workflow_with(CASES[args.case], out, block, seed, budget)
                 try:
@@ -90,6 +101,9 @@ def main(argv=None) -> None:
                 finally:
                     path.unlink(missing_ok=True)
                 runs[name].append(objectives_in_order(run))
+                if stored is not None:
+                    stored.parent.mkdir(parents=True, exist_ok=True)
+                    np.save(stored, runs[name][-1])
                 if name == "gp_front":
                     cpu.append(own / budget)
                 print(f"  {name} seed {seed}: {budget} simulations, wall {wall:.0f} s, client CPU {own / budget:.3f} s per evaluation, load {os.getloadavg()[0]:.1f}", flush=True)
