@@ -6,6 +6,9 @@
 With ``--store DIR`` each run's objectives are kept as ``DIR/<case>_<optimiser>_<seed>_<budget>.npy`` and a run
 already stored there is read instead of run again: a long study (the air-source case takes hours
 on 2 cores) can be stopped and continued, and its table printed again without simulating.
+``--runs nsga2=RUN_DIR gp_front=RUN_DIR ...`` scores finished run folders instead (for a model too
+slow to run several seeds here: the EnergyPlus bungalow's shipped NSGA-II and gp_front workflows);
+the budgets are then the runs' own evaluation counts.
 
 Real runs (real FMU through fmpy, dask workers) of the shipped workflow with only the optimiser
 block changed. Hypervolume (moocore) of log10 objectives, normalised by the best and worst
@@ -77,10 +80,27 @@ def main(argv=None) -> None:
     parser.add_argument("--batch", type=int, default=8)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--store", type=Path, help="keep each run's objectives here and reuse the ones already kept")
+    parser.add_argument("--runs", nargs="+", metavar="OPTIMISER=RUN_DIR", help="score these finished runs instead of running")
     args = parser.parse_args(argv)
     print(f"load before {os.getloadavg()}", flush=True)
     runs = {"nsga2": [], "gp_front": []}
     cpu = []
+    if args.runs:
+        for item in args.runs:
+            name, _, folder = item.partition("=")
+            if name not in runs:
+                parser.error(f"--runs {item}: expected nsga2=RUN_DIR or gp_front=RUN_DIR")
+            runs[name].append(objectives_in_order(simgap.load_run(folder)))
+        args.seeds = min(len(Fs) for Fs in runs.values())
+        args.nsga2_budget = min(len(F) for F in runs["nsga2"])
+        args.gp_budget = min(len(F) for F in runs["gp_front"])
+    else:
+        simulate_all(args, runs, cpu)
+    report(args, runs, cpu)
+
+
+def simulate_all(args, runs: dict, cpu: list) -> None:
+    """Run every seed of both optimisers (or read it from --store), filling ``runs`` and ``cpu``."""
     with tempfile.TemporaryDirectory() as tmp, DaskExecutor(workers=args.workers) as executor:
         for seed in range(1, args.seeds + 1):
             for name, block, budget in (
@@ -107,6 +127,9 @@ def main(argv=None) -> None:
                 if name == "gp_front":
                     cpu.append(own / budget)
                 print(f"  {name} seed {seed}: {budget} simulations, wall {wall:.0f} s, client CPU {own / budget:.3f} s per evaluation, load {os.getloadavg()[0]:.1f}", flush=True)
+
+
+def report(args, runs: dict, cpu: list) -> None:
     pooled = np.log10(np.maximum(np.vstack([F for Fs in runs.values() for F in Fs]), 1e-300))
     pooled = pooled[np.isfinite(pooled).all(axis=1)]
     low, high = pooled.min(axis=0), pooled.max(axis=0)
@@ -127,7 +150,8 @@ def main(argv=None) -> None:
     print(f"\nNSGA-II median hypervolume at N = {N}: {target:.4f}; gp_front median at {args.gp_budget}: {gp_fine[-1]:.4f}")
     print(f"gp_front reaches it after {reached} simulations (goal <= N/5 = {N // 5})" if reached else
           f"gp_front does not reach it within {args.gp_budget} simulations")
-    print(f"gp_front client CPU per evaluation (fits + search + run loop), median {statistics.median(cpu):.3f} s")
+    if cpu:
+        print(f"gp_front client CPU per evaluation (fits + search + run loop), median {statistics.median(cpu):.3f} s")
     print(f"load after {os.getloadavg()}")
 
 
