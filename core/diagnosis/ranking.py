@@ -70,6 +70,12 @@ class Candidate:
     """Per target, the envelope test of the settings that move the switching."""
     envelope_significant: bool = False
     """The envelope test passes the screening thresholds: earns a recalibration of its own."""
+    switch_counts: dict | None = None
+    """Starts counted in the record, in the base simulation and at the setting closest to the
+    record (only for an effect that moves the switching of an on/off unit)."""
+    count_evidence: bool = False
+    """The base simulation starts far more or fewer times than the record, and a setting of the
+    effect brings the count at least halfway (in log) towards it: earns a recalibration."""
     best_setting: int | None = None
     """Index in ``responses`` of the setting that explained most on the effect's best target."""
     """(effect parameter values, simulated change per target) at every screened setting."""
@@ -77,7 +83,7 @@ class Candidate:
     @property
     def claimed(self) -> bool:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap."""
-        if not (self.significant or (self.envelope_significant and self.gap_shrink is not None)):
+        if not (self.significant or ((self.envelope_significant or self.count_evidence) and self.gap_shrink is not None)):
             return False
         if self.gap_shrink is None:
             # not recalibrated: claimed on its signature only when no recalibration was asked
@@ -114,6 +120,8 @@ class Candidate:
             "per_target": self.per_target,
             "envelope": self.envelope,
             "envelope_significant": self.envelope_significant,
+            "switch_counts": self.switch_counts,
+            "count_evidence": self.count_evidence,
         }
 
 
@@ -382,6 +390,35 @@ def moves_switches(ctx: Context, data, change: dict[str, np.ndarray]) -> bool:
     return bool(np.mean((base[ok] > cut) != (after[ok] > cut)) >= MOVED_SWITCHES)
 
 
+def count_starts(ctx: Context, data, power: np.ndarray) -> int:
+    """Compressor starts in a power series, counted as the 'where' part counts them (a running
+    median of five samples against sensor flicker, off below 15 % of the span)."""
+    import pandas as pd
+
+    from .context import running_level
+    from .where import cycles
+
+    raw = pd.Series(np.asarray(power, dtype=float)).rolling(5, center=True, min_periods=1).median()
+    state = running_level(raw.fillna(raw.median()).to_numpy(), on_off=True) > 0.05
+    return int(cycles(state, data.time, data.segment)["starts"])
+
+
+def switch_count_evidence(measured: int, base: int, settings: list[int]) -> tuple[bool, int | None]:
+    """Whether the number of starts is evidence for an effect that moves the switching, and the
+    setting whose count comes closest to the record's. Out of phase, a thermostat's cycles
+    explain little sample by sample, and where the unit cycles nearly all the time it runs their
+    envelope is flat; their number is phase-free. Evidence: the base simulation's count is off
+    the record's by more than a factor of two and by more than three Poisson standard deviations
+    (√(m + b + 1)), and some setting of the effect halves that distance (in log)."""
+    if not settings:
+        return False, None
+    distance = [abs(math.log((measured + 1.0) / (n + 1.0))) for n in settings]
+    best = int(np.argmin(distance))
+    before = abs(math.log((measured + 1.0) / (base + 1.0)))
+    far = before >= math.log(2.0) and abs(measured - base) > 3.0 * math.sqrt(measured + base + 1.0)
+    return bool(far and distance[best] <= 0.5 * before), best
+
+
 def window_samples(ctx: Context, data) -> int:
     """Samples in the diagnosis's rolling window (``diagnose.window``), for the window-mean view
     of the screening; 1 where the data are as coarse as the window."""
@@ -434,7 +471,41 @@ def in_the_model(addition: EffectAddition | None, data) -> str:
     return ""
 
 
-def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None = None) -> list[Candidate]:
+def unexplained_targets(ctx: Context) -> dict[str, str]:
+    """Targets whose measured series the simulation does not explain at all, with the reason.
+
+    A missing effect is a part of the record that the model leaves out; that presupposes a model
+    that follows the record. Where the simulated series explains no more of the measured one
+    (both centred) than it does shifted in time against it (the same shift test as the effects',
+    neither significant nor a share above the screening's smallest), the residual is the
+    measurement itself: any effect that makes
+    the simulation flatter (a long sensor lag, an input gain below one, a unit that stops) then
+    lowers the error and passes for a finding. On data that are pure noise every such effect was
+    screened significant and confirmed. Such targets are left out of the screening."""
+    out = {}
+    measured, simulated = ctx.joined("measured"), ctx.joined("simulated")
+    for t in ctx.targets:
+        m, s = np.asarray(measured[t], dtype=float), np.asarray(simulated[t], dtype=float)
+        ok = np.isfinite(m) & np.isfinite(s)
+        if ok.sum() < 10 or np.nanstd(s[ok]) <= 0:
+            out[t] = "the simulation is constant or has too few samples"
+            continue
+        y = m[ok] - m[ok].mean()
+        x = (s[ok] - s[ok].mean())[:, None]
+        observed, chance, p, _, _ = max_shift_test(y, [x])
+        # either piece of evidence that the model follows the record will do: on a daily-periodic
+        # record a shift by whole days can explain almost as much as lag 0 (a clock-shifted
+        # record's p was 0.05 while the simulation explained 47 % of it beyond chance)
+        if p > ctx.config.significance and observed - chance < ctx.config.min_share:
+            out[t] = (f"the simulation explains {max(observed - chance, 0.0):.0%} of the measured series beyond chance "
+                      f"(p = {p:.2g}): the residual is the measurement itself, not a missing effect")
+    return out
+
+
+def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None = None,
+                 skip: dict[str, str] | None = None) -> list[Candidate]:
+    """Screen ``effects`` on the residual of every target but those in ``skip``
+    (``unexplained_targets``: the model does not follow them)."""
     data = ctx.data()
     residual = ctx.residual
     config = ctx.config
@@ -443,7 +514,14 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
     prepared_targets, offset_targets = {}, {}
     instants = switching_instants(data)
     width = window_samples(ctx, data)
+    kind, _, power_name = ctx.roles.get("power", "").partition(":")
+    starts = None
+    if ctx.operation == "on/off" and kind == "sim" and power_name in data.simulated:
+        measured_power = ctx.joined("measured")[power_name]
+        starts = (count_starts(ctx, data, measured_power), count_starts(ctx, data, data.simulated[power_name]))
     for t in ctx.targets:
+        if skip and t in skip:
+            continue
         r = residual[t]
         mask = np.isfinite(r)
         sens = {**(nuisance.columns.get(t, {}) if nuisance else {}), **instants}
@@ -552,6 +630,17 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             e_share = max(v["share"] - v["chance"] for v in cand.envelope.values())
             e_p = min(1.0, min(v["p_value"] for v in cand.envelope.values()) * len(cand.envelope))
             cand.envelope_significant = e_p <= config.significance and e_share >= config.min_share
+        if starts is not None and any(moved):
+            settings = [k for k, m in enumerate(moved) if m]
+            counts = [count_starts(ctx, data, data.simulated[power_name] + responses[k][power_name]) for k in settings]
+            evidence, best = switch_count_evidence(starts[0], starts[1], counts)
+            cand.switch_counts = {"measured": starts[0], "simulated": starts[1],
+                                  "closest_setting": counts[best] if best is not None else None}
+            if evidence:
+                cand.count_evidence = True
+                if not cand.envelope_significant:
+                    # the recalibration starts at the setting that cycles like the record
+                    cand.best_setting = settings[best]
         cand.min_shrink = config.min_shrink
         cand.confirm_significance = config.confirm_significance
     candidates.sort(key=lambda c: (not c.applicable, -c.share))

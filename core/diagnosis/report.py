@@ -247,6 +247,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         if best:
             lines.append(f"Recalibrated with it, the validation gap shrinks by {best['gap_shrink']:.0%} (table below).")
         lines.append("")
+    for t, why in (where.get("unexplained_targets") or {}).items():
+        lines += [f"**{t} not screened:** {why}.", ""]
     lines += ["### Roles", ""]
     if ctx.roles:
         lines += ["| role | series | taken from |", "|---|---|---|"]
@@ -306,8 +308,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
               "fraction explained (its best target); *p* comes from shifting the signature in time against the residual "
               "(autocorrelation kept). An effect is claimed at p ≤ "
               f"{ctx.config.significance:g} and share ≥ {ctx.config.min_share:.0%} (*significant*); the significant ones "
-              f"are recalibrated with the effect added (part 3) and claimed only if the validation gap above the noise "
-              f"floor shrinks by at least {ctx.config.min_shrink:.0%} beyond what the same re-tuning without an effect achieves, "
+              f"are recalibrated with the effect added (part 3) and claimed only if the effect removes at least "
+              f"{ctx.config.min_shrink:.0%} of the original validation gap (squared error above the noise floor) beyond what "
+              f"the same re-tuning without an effect removes, "
               f"that improvement is not chance (paired test of the squared errors against the control's, autocorrelation kept, "
               f"p ≤ {ctx.config.confirm_significance:g}), and, beside a better-confirmed effect, it shrinks the gap further "
               f"when added on top of that one. The rank orders recalibrated effects by their shrink, then the rest by share.", ""]

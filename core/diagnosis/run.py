@@ -11,7 +11,7 @@ from pathlib import Path
 from ..errors import PluginError
 from ..plugin_host import get_registry
 from .context import build_context
-from .ranking import Candidate, rank_effects, tuner_sensitivities
+from .ranking import Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import verdict, write
 from ..interfaces import EffectAddition
 from .shrink import CONTROL, recalibrate
@@ -46,7 +46,7 @@ def start_responses(cand: Candidate) -> list:
     switching (tested on the envelopes), the sample-level fit of the warm start prefers a
     setting that does nothing over cycles out of phase; it starts at the setting the screening
     found best instead."""
-    if cand.best_setting is not None and cand.envelope:
+    if cand.best_setting is not None and (cand.envelope or cand.count_evidence):
         return [cand.responses[cand.best_setting]]
     return cand.responses
 
@@ -68,9 +68,11 @@ def recalibration_choice(candidates: list[Candidate], budget: int) -> list[Candi
                 chosen.append(family.pop(0))
     # an effect that moves the switching and stands out on the envelopes gets a slot beyond the
     # budget: sample by sample its cycles are out of phase, so its share there says little
-    switching = [c for c in candidates if c.envelope_significant and c.addition is not None and c not in chosen]
+    # (or whose setting brings the number of starts towards the record's, see switch_count_evidence)
+    switching = [c for c in candidates if (c.envelope_significant or c.count_evidence) and c.addition is not None and c not in chosen]
     if budget > 0 and switching:
-        chosen.append(max(switching, key=lambda c: max(v["share"] - v["chance"] for v in c.envelope.values())))
+        chosen.append(max(switching, key=lambda c: (c.envelope_significant,
+                                                     max([v["share"] - v["chance"] for v in c.envelope.values()] or [0.0]))))
     return chosen
 
 
@@ -183,7 +185,11 @@ def diagnose(
     t1 = time.perf_counter()
     effects = installed_effects(ctx.config.effects)
     nuisance = tuner_sensitivities(ctx)
-    candidates = rank_effects(ctx, effects, nuisance)
+    unexplained = unexplained_targets(ctx)
+    where["unexplained_targets"] = unexplained
+    for t, why in unexplained.items():
+        say(f"not screened: {t}: {why}")
+    candidates = rank_effects(ctx, effects, nuisance, skip=unexplained)
     t2 = time.perf_counter()
     say("screening: " + ", ".join(f"{c.name} {c.share:.0%} (p={c.p_value:.2g})" for c in candidates if c.applicable))
     folder = Path(output) if output is not None else ctx.run.dir / "diagnosis"

@@ -107,6 +107,10 @@ class SensorOffsetGain(_Around):
         return {f"{t}": np.asarray(data.simulated[t], dtype=float) for t in data.simulated}
 
 
+CLOCK_SHIFT_SPAN_S = 600.0
+"""The clock shift's smallest range either way, in seconds."""
+
+
 class ClockShift(_Around):
     name = "clock_shift"
     description = "the logger's clock and the model's time differ by a constant shift"
@@ -117,11 +121,17 @@ class ClockShift(_Around):
 
     def entries(self, data):
         dt = data.sample_interval
-        span = 4.0 * dt
+        # a logger's clock is off by physical time (an unsynchronised clock: seconds to minutes),
+        # not by a number of samples: at least ten minutes either way, four intervals on coarse
+        # data (a 60-s shift of 10-s data lay outside the ±4 intervals of before)
+        span = max(4.0 * dt, CLOCK_SHIFT_SPAN_S)
         name = "clockShift"
         # a shift's response is far from linear in it: screened at half, one, two and three
-        # sample intervals either way
-        screen = tuple(sign * k * dt for k in (0.5, 1.0, 2.0, 3.0) for sign in (-1.0, 1.0))
+        # sample intervals either way, then doubling from six intervals to the span
+        steps = [0.5, 1.0, 2.0, 3.0]
+        while 2.0 * steps[-1] * dt <= span:
+            steps.append(2.0 * steps[-1])
+        screen = tuple(sign * k * dt for k in steps for sign in (-1.0, 1.0))
         param = (P(name, 0.0, -span, span, "s", neutral=0.0, screen=screen),)
         variables = list(dict.fromkeys(data.variable_of(t) for t in data.simulated))
         # one shift for every target; its tuner is listed once
