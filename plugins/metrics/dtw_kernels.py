@@ -114,43 +114,48 @@ def _sweep_cost(cur, prev1, prev2, cost, r, lo, hi):
         out[t] = max(c[t], 0.0) + min(diag[t], min(left[t], up[t]))
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
-def _sweep_columns(cur, prev1, prev2, a_flat, b_flat, n, d, ia, jb, r, lo, hi):
-    """One anti-diagonal, one-sample points of d columns, the point cost summed inside the sweep.
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_INTS(4)})", **_SWEEP)
+def _column_costs(out, a_flat, b_flat, x, y, lo, hi):
+    """out[lo + 1 + t] = (a_flat[x + t] − b_flat[y + t])², the first column of several."""
+    cnt = hi - lo + 1
+    acc = out[lo + 1 : lo + 1 + cnt]
+    av = a_flat[x : x + cnt]
+    bv = b_flat[y : y + cnt]
+    for t in range(cnt):
+        d = av[t] - bv[t]
+        acc[t] = d * d
 
-    ``a_flat``/``b_flat`` are the (d, n) arrays raveled: column c of a sample index x is at
-    c·n + x. Columns are added in order, the last one in the same loop as the minimum, so the
-    sums are those of the separate cost pass (bit for bit) without a buffer round trip.
+
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_INTS(4)})", **_SWEEP)
+def _add_column_costs(out, a_flat, b_flat, x, y, lo, hi):
+    """out[lo + 1 + t] += (a_flat[x + t] − b_flat[y + t])², a middle column of several."""
+    cnt = hi - lo + 1
+    acc = out[lo + 1 : lo + 1 + cnt]
+    av = a_flat[x : x + cnt]
+    bv = b_flat[y : y + cnt]
+    for t in range(cnt):
+        d = av[t] - bv[t]
+        acc[t] += d * d
+
+
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(5)})", **_SWEEP)
+def _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, x, y, r, lo, hi):
+    """One anti-diagonal whose cells hold the other columns' cost sum: adds the last column's
+    and the minimum in one loop, so the sums are those of a separate cost pass, bit for bit.
+
+    (One function per loop shape: array variables assigned in branches cost numba reference
+    counting inside the sweep, measured ~50 ns per anti-diagonal.)
     """
     cnt = hi - lo + 1
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
     left = prev1[lo + r : lo + r + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    last = d - 1
-    if last > 0:
-        av = a_flat[ia + lo : ia + lo + cnt]
-        bv = b_flat[jb + lo : jb + lo + cnt]
-        for t in range(cnt):
-            x = av[t] - bv[t]
-            out[t] = x * x
-        for c in range(1, last):
-            av = a_flat[c * n + ia + lo : c * n + ia + lo + cnt]
-            bv = b_flat[c * n + jb + lo : c * n + jb + lo + cnt]
-            for t in range(cnt):
-                x = av[t] - bv[t]
-                out[t] += x * x
-        av = a_flat[last * n + ia + lo : last * n + ia + lo + cnt]
-        bv = b_flat[last * n + jb + lo : last * n + jb + lo + cnt]
-        for t in range(cnt):
-            x = av[t] - bv[t]
-            out[t] = (out[t] + x * x) + min(diag[t], min(left[t], up[t]))
-    else:
-        av = a_flat[ia + lo : ia + lo + cnt]
-        bv = b_flat[jb + lo : jb + lo + cnt]
-        for t in range(cnt):
-            x = av[t] - bv[t]
-            out[t] = x * x + min(diag[t], min(left[t], up[t]))
+    av = a_flat[x : x + cnt]
+    bv = b_flat[y : y + cnt]
+    for t in range(cnt):
+        d = av[t] - bv[t]
+        out[t] = (out[t] + d * d) + min(diag[t], min(left[t], up[t]))
 
 
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
@@ -160,8 +165,7 @@ def _sweep_running(cur, prev1, prev2, point_cost, a_rev, b, xn, yn, r, lo, hi, k
 
     Cell lo + t's point cost (per diagonal, in ``point_cost``) gains the sample pair at a_rev
     index xn + t, b index yn + t, and loses the pair k samples back along the diagonal
-    (a_rev xn + k + t, b yn − k + t). (One function per shape: array variables assigned in
-    branches cost numba reference counting in the sweep, measured ~50 ns per call.)
+    (a_rev xn + k + t, b yn − k + t). (One function per loop shape, see _sweep_last_column.)
     """
     cnt = hi - lo + 1
     out = cur[lo + 1 : lo + 1 + cnt]
@@ -320,8 +324,15 @@ def banded_dtw(a_t, b_t, w, k):
         pc = point_cost[r]
         _clear_outside(cur, q_lo, q_hi, w)
 
-        if k == 1:
-            _sweep_columns(cur, prev1, prev2, a_flat, b_flat, n, d, ia, j0, r, q_lo, q_hi)
+        if k == 1 and d == 1:
+            _sweep_1d(cur, prev1, prev2, a_flat, b_flat, ia, j0, r, q_lo, q_hi)
+        elif k == 1:
+            # column c of sample x is at c·n + x of the raveled (d, n) arrays
+            _column_costs(cur, a_flat, b_flat, ia + q_lo, j0 + q_lo, q_lo, q_hi)
+            for c in range(n, (d - 1) * n, n):
+                _add_column_costs(cur, a_flat, b_flat, c + ia + q_lo, c + j0 + q_lo, q_lo, q_hi)
+            c = (d - 1) * n
+            _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, c + ia + q_lo, c + j0 + q_lo, r, q_lo, q_hi)
         else:
             # k-sample points: the running point cost of each diagonal lives in ``pc``.
             lo, hi = q_lo, q_hi
