@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import sys
 import time
 from datetime import datetime
 from pathlib import Path
@@ -153,6 +152,7 @@ def resume(
     scheduler: str | None = None,
     progress: Progress | None = None,
     on_generation: Callable[[int], None] | None = None,
+    figures: str = "wait",
 ) -> Path:
     """Continue the interrupted run in ``run_dir`` with the workflow copy it holds.
 
@@ -172,27 +172,38 @@ def resume(
     # the copy's relative paths were written relative to the original workflow's folder
     wf = load_workflow(run_dir / WORKFLOW, base_dir=Path(info["base_dir"]))
     prepared = prepare(wf)
-    return calibrate(prepared, workers=workers, scheduler=scheduler, progress=progress, on_generation=on_generation, resume_dir=run_dir)
+    return calibrate(prepared, workers=workers, scheduler=scheduler, progress=progress, on_generation=on_generation,
+                     resume_dir=run_dir, figures=figures)
 
 
-def calibrate(prepared: Prepared, **options) -> Path:
+def calibrate(prepared: Prepared, *, figures: str = "wait", **options) -> Path:
     """Run the workflow's calibration; returns the run directory (options: see :func:`_calibrate`).
 
     The run folder is locked while the run writes it: a second writer is refused, naming the
-    host and process that holds it.
+    host and process that holds it. ``figures`` (simgap.figures): ``wait`` draws the plots and
+    report.html before returning; ``background`` returns once the results are written and draws
+    them in a forked process (``simgap.figures.wait_for_figures`` waits for it).
     """
+    from .figures import FIGURES_MODES, write_figures
+
+    if figures not in FIGURES_MODES:
+        raise SimgapError(f"figures: {figures!r} is not one of {', '.join(FIGURES_MODES)}")
     locks: list[RunFolderLock] = []
+    drawing: list[tuple] = []
     try:
-        return _calibrate(prepared, locks=locks, **options)
+        run_dir = _calibrate(prepared, locks=locks, figures=drawing, **options)
     finally:
         for lock in locks:
             lock.release()
+    write_figures(figures, run_dir, *drawing[0])  # the folder's results are complete without them
+    return run_dir
 
 
 def _calibrate(
     prepared: Prepared,
     *,
     locks: list,
+    figures: list,
     workers: int | None = None,
     scheduler: str | None = None,
     output: str | Path | None = None,
@@ -208,7 +219,7 @@ def _calibrate(
 
     ``run_id`` names the run folder (default: time stamp and workflow name); ``workflow_text``
     is what the folder keeps as ``workflow.yaml`` (default: the workflow file's text);
-    ``run_info`` adds entries to ``run.json``. ``resume_dir`` continues that interrupted run
+    ``run_info`` adds entries to ``run.json``. What the figures need is appended to ``figures``. ``resume_dir`` continues that interrupted run
     instead of starting one (see :func:`resume`). An open ``executor`` is used as it is
     (a grid runs all its cells on one cluster); otherwise the run starts and stops its own.
     """
@@ -346,37 +357,10 @@ def _calibrate(
         summary["resumed"] = {"evaluations_from_log": replayed, "evaluations_now": len(store) - replayed}
     report = _trust(prepared, summary, frame, pareto, series, run_dir, probe)
     store.write_summary(summary)
-    _write_figures(prepared, run_dir, frame, pareto, store.objective_columns, featured, series, report)
-    return run_dir
-
-
-def _write_figures(prepared, run_dir, frame, pareto, objectives, featured, series, identifiability_report) -> None:
-    """The run's plots and report.html, with the identifiability plot drawn meanwhile in a forked
-    child (both cores are free once the workers are idle; about a second less wall time).
-
-    matplotlib is imported before the fork, so the child does not import it again; the report
-    page is written once more after both finished, so it always shows the identifiability plot."""
-    from . import identifiability
     from .display_units import display_units
-    from .plots import write_plots  # matplotlib is slow to import; only when needed
-    from .report import write_report
 
-    child = None
-    if identifiability_report is not None and sys.platform.startswith("linux"):
-        import multiprocessing
-
-        child = multiprocessing.get_context("fork").Process(
-            target=identifiability.write_plot, args=(identifiability_report, run_dir), name="simgap-figures", daemon=True
-        )
-        child.start()
-    elif identifiability_report is not None:
-        identifiability.write_plot(identifiability_report, run_dir)
-    write_plots(run_dir, frame, pareto, objectives, featured, series, display_units(prepared))
-    if child is not None:
-        child.join()
-        if child.exitcode != 0:  # the child failed (it printed why): draw it here, where errors surface
-            identifiability.write_plot(identifiability_report, run_dir)
-        write_report(run_dir)
+    figures.append((frame, pareto, store.objective_columns, featured, series, report, display_units(prepared)))
+    return run_dir
 
 
 def _pareto(frame: pd.DataFrame, store: RunStore) -> pd.DataFrame:

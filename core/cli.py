@@ -92,7 +92,11 @@ def main():
 @click.option("--out", type=click.Path(path_type=Path), help="output directory (a run folder is created inside)")
 @click.option("--resume", "resume_dir", type=click.Path(path_type=Path), metavar="DIR",
               help="continue the interrupted run (or grid) in DIR, with the workflow copy it holds")
-def run(workflow, workers, scheduler, out, resume_dir):
+@click.option("--figures", type=click.Choice(["background", "wait"]), default="background", show_default=True,
+              envvar="SIMGAP_FIGURES", show_envvar=True,
+              help="draw the plots and report.html in a background process once the results are written "
+                   "(plots/figures.json appears when they are done), or before returning")
+def run(workflow, workers, scheduler, out, resume_dir, figures):
     """Calibrate the model of WORKFLOW; writes a run folder with the log, front, summary and plots.
 
     A workflow with a 'grid:' section runs every cell and writes a cross table.
@@ -110,18 +114,21 @@ def run(workflow, workers, scheduler, out, resume_dir):
             _report_grid(resume_grid(resume_dir, workers=workers, scheduler=scheduler, progress=progress))
             return
         if resume_dir is not None:
-            run_dir = resume(resume_dir, workers=workers, scheduler=scheduler, progress=progress)
+            run_dir = resume(resume_dir, workers=workers, scheduler=scheduler, progress=progress, figures=figures)
         else:
             wf = load_workflow(workflow)
             if wf.model.grid is not None:
                 _report_grid(run_grid(wf, workers=workers, scheduler=scheduler, output=out, progress=progress))
                 return
-            run_dir = calibrate(prepare(wf), workers=workers, scheduler=scheduler, output=out, progress=progress)
+            run_dir = calibrate(prepare(wf), workers=workers, scheduler=scheduler, output=out, progress=progress, figures=figures)
     except KeyboardInterrupt:
         progress.stop()
         _fail("interrupted; evaluations finished so far are kept in the run folder's log; "
               "continue with 'simgap run --resume DIR'", EXIT_INTERRUPTED)
     _report_run(run_dir)
+    if figures == "background":
+        click.echo("figures: being drawn in the background into plots/ and report.html "
+                   "(plots/figures.json is written when they are done)")
 
 
 def _report_grid(grid_dir):

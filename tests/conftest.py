@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
 import pytest
+
+# `simgap run` draws a run's figures in a background process (simgap.figures); tests read them as
+# soon as the command returns, so they wait for them (tests/test_figures.py covers the background path)
+os.environ.setdefault("SIMGAP_FIGURES", "wait")
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared"
