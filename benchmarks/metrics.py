@@ -95,22 +95,37 @@ def dtw_against_dtaidistance() -> None:
 
 def dtw_points_and_columns() -> None:
     print("\n2. DTW kernel with k-sample points and several columns, per band cell against the 1-D kernel")
-    print(f"   load before {os.getloadavg()[0]:.2f}; interleaved (1-D, variant, 1-D, variant …), medians")
+    print(
+        "   CPU time of this thread (a loaded machine preempts, it does not bill), all variants "
+        "interleaved (1-D, k6, 3 col, …), medians"
+    )
+    print(f"   load before {os.getloadavg()[0]:.2f}")
     rng = np.random.default_rng(1)
-    for n, w, repeats in [(8640, 48, 21), (129600, 48, 5)]:
+    variants = [("1-D kernel", 1, 1), ("k = 1, 1 column", 1, 1), ("k = 6, 1 column", 6, 1),
+                ("k = 1, 3 columns", 1, 3), ("k = 6, 3 columns", 6, 3)]
+    for n, w, repeats in [(8640, 48, 31), (129600, 48, 7)]:
         cells = band_cells(n, w)
         a3 = rng.normal(size=(3, n)).cumsum(axis=1)
         b3 = a3 + rng.normal(size=(3, n))
         a1, b1 = a3[0].copy(), b3[0].copy()
-        for k, d in [(1, 1), (6, 1), (1, 3), (6, 3)]:
+        calls = []
+        for label, k, d in variants:
             a, b = np.ascontiguousarray(a3[:d]), np.ascontiguousarray(b3[:d])
-            plain, variant = [], []
-            for _ in range(repeats):
-                plain.append(median_time(lambda: banded_dtw_1d(a1, b1, w), 1)[0])
-                variant.append(median_time(lambda: banded_dtw(a, b, w, k), 1)[0])
-            p, v = statistics.median(plain), statistics.median(variant)
-            print(f"   n = {n:>6}, w = {w}, k = {k}, d = {d}: {v / cells * 1e9:5.2f} ns/cell "
-                  f"(1-D {p / cells * 1e9:5.2f} ns/cell), ratio {v / p:4.2f}")
+            if label == "1-D kernel":
+                calls.append(lambda: banded_dtw_1d(a1, b1, w))
+            else:
+                calls.append(lambda a=a, b=b, k=k: banded_dtw(a, b, w, k))
+        times = [[] for _ in variants]
+        for _ in range(repeats):
+            for call, spent in zip(calls, times):
+                t0 = time.thread_time()
+                call()
+                spent.append(time.thread_time() - t0)
+        base = statistics.median(times[0])
+        print(f"   n = {n}, w = {w}, {cells:,} band cells, {repeats} repeats")
+        for (label, _, _), spent in zip(variants, times):
+            t = statistics.median(spent)
+            print(f"     {label:<17} {t / cells * 1e9:5.2f} ns/cell  ratio to 1-D {t / base:4.2f}")
     print(f"   load after {os.getloadavg()[0]:.2f}")
 
 
