@@ -1,0 +1,86 @@
+"""The diagnosis's guards against false claims and its phase-free switching evidence (issue 14,
+third run): targets the simulation does not follow are not screened; a recalibrated effect is
+credited with the share of the ORIGINAL gap it removes beyond the control; the number of starts
+is evidence for an effect that moves the switching."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from simgap.diagnosis.ranking import switch_count_evidence, unexplained_targets
+from simgap.diagnosis.shrink import _versus
+
+
+def _context(measured: dict, simulated: dict):
+    """What unexplained_targets reads of a diagnosis context: the joined series and the
+    screening's thresholds."""
+    config = SimpleNamespace(significance=0.01, min_share=0.05)
+    series = {"measured": measured, "simulated": simulated}
+    return SimpleNamespace(targets=list(measured), config=config, joined=lambda which: series[which])
+
+
+def test_a_target_the_simulation_does_not_follow_is_not_screened():
+    rng = np.random.default_rng(7)
+    hours = np.arange(0, 10 * 24.0, 1.0)  # ten days of hourly data
+    daily = 2.0 * np.sin(2 * np.pi * hours / 24.0) + 0.5 * np.sin(2 * np.pi * hours / 97.0)
+    simulated = {"T_follows": 300.0 + daily, "T_noise": 300.0 + daily, "T_late": 300.0 + daily}
+    measured = {
+        "T_follows": 300.3 + daily + rng.normal(0, 0.1, hours.size),
+        # pure noise with the record's spread: nothing a model could explain
+        "T_noise": 300.0 + np.std(daily) * rng.normal(size=hours.size),
+        # the logger's clock an hour late: still the same record (a shift by whole days explains
+        # almost as much as lag 0, so the shift test's p alone would not do)
+        "T_late": 300.0 + np.interp(hours - 1.0, hours, daily) + rng.normal(0, 0.1, hours.size),
+    }
+    out = unexplained_targets(_context(measured, simulated))
+    assert list(out) == ["T_noise"], out
+    assert "the residual is the measurement itself" in out["T_noise"]
+
+
+def _above(before, after, noise):
+    return {"rmse_before": before, "rmse_after": after, "noise": noise, "noise_before": noise}
+
+
+def test_near_the_floor_confirmation_is_measured_against_the_original_gap():
+    # a control that took the error almost to the floor (0.066 K over 0.050 K, from 0.109 K):
+    # an effect that goes on to 0.052 K removes little of the gap the diagnosis started from,
+    # although it removes most of the small gap the control left
+    control = {"T": _above(0.109, 0.066, 0.050)}
+    effect = {"T": _above(0.109, 0.052, 0.050)}
+    per_target, share = _versus(effect, control, {"T": 1.0})
+    left_by_control = 1 - np.sqrt(0.052**2 - 0.05**2) / np.sqrt(0.066**2 - 0.05**2)
+    assert left_by_control > 0.6  # measured against the control's gap: a "confirmed" 67 %
+    assert share == pytest.approx((0.066**2 - 0.052**2) / (0.109**2 - 0.05**2))
+    assert share < 0.2
+    # a control already at the floor leaves the effect nothing to claim
+    control = {"T": _above(0.3, 0.049, 0.05)}
+    effect = {"T": _above(0.3, 0.045, 0.05)}
+    assert _versus(effect, control, {"T": 1.0})[1] == 0.0
+
+
+def test_a_gap_the_control_leaves_well_above_the_noise_is_the_measure():
+    # re-tuning imitates a sensor lag in part (0.435 K -> 0.18 K), the lag takes it to 0.038 K
+    # over a 0.014 K floor: most of what the control left, a clear finding
+    control = {"T": _above(0.435, 0.18, 0.014)}
+    effect = {"T": _above(0.435, 0.038, 0.014)}
+    share = _versus(effect, control, {"T": 1.0})[1]
+    assert share == pytest.approx(1 - np.sqrt(0.038**2 - 0.014**2) / np.sqrt(0.18**2 - 0.014**2))
+    assert share > 0.8
+    # targets count by the effect's weights
+    both = _versus({**effect, "P": _above(30, 12, 0.0)}, {**control, "P": _above(30, 12, 0.0)}, {"T": 1.0, "P": 0.0})[1]
+    assert both == pytest.approx(share)
+
+
+def test_the_number_of_starts_is_evidence_for_a_switching_effect():
+    # the record starts 104 times, the model 12; a setting that starts 80 times comes close
+    assert switch_count_evidence(104, 12, [12, 30, 80]) == (True, 2)
+    # no setting brings the count halfway towards the record's (in log)
+    assert switch_count_evidence(104, 12, [12, 14, 20])[0] is False
+    # the model starts as often as the record: nothing to explain
+    assert switch_count_evidence(18, 16, [40, 18])[0] is False
+    # a factor of two on a handful of starts is within chance
+    assert switch_count_evidence(4, 2, [4])[0] is False
+    assert switch_count_evidence(30, 12, []) == (False, None)
