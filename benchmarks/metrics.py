@@ -1,6 +1,7 @@
 """Metric speed: banded DTW against dtaidistance, numba start-up, every metric against a simulation.
 
     python benchmarks/metrics.py            # about 1–2 minutes on 2 cores
+    python benchmarks/metrics.py --section 2   # only the listed sections (repeatable)
 
 1. DTW kernel (univariate, one sample per point, squared differences, window |i − j| ≤ w) on
    random series for paper B's cases: n = 288 (a day at 5 min), 8640 (30 days), 129 600
@@ -24,6 +25,7 @@ Times are medians of repeated runs in one process.
 
 from __future__ import annotations
 
+import argparse
 import os
 import statistics
 import subprocess
@@ -198,11 +200,22 @@ def metrics_against_a_simulation() -> None:
         )
 
 
+SECTIONS = {
+    1: dtw_against_dtaidistance,
+    2: dtw_points_and_columns,
+    3: numba_startup,
+    4: metrics_against_a_simulation,
+}
+
+
 def main() -> None:
-    dtw_against_dtaidistance()
-    dtw_points_and_columns()
-    numba_startup()
-    metrics_against_a_simulation()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--section", type=int, action="append", choices=sorted(SECTIONS),
+        help="run only this section (repeatable); default: all",
+    )
+    for number in parser.parse_args().section or sorted(SECTIONS):
+        SECTIONS[number]()
 
 
 if __name__ == "__main__":
