@@ -6,7 +6,7 @@ from pydantic import Field
 
 import simgap
 
-from .ask_tell import PymooAskTell
+from .ask_tell import PymooAskTell, deferred_module, exact_duplicate_elimination
 
 
 class NSGA2Options(simgap.PluginOptions):
@@ -22,7 +22,8 @@ class NSGA2Optimiser(PymooAskTell):
     Options = NSGA2Options
 
     def make_algorithm(self):
-        from pymoo.algorithms.moo.nsga2 import NSGA2
+        with deferred_module("scipy.spatial.distance"):  # for crowding variants NSGA-II does not use
+            from pymoo.algorithms.moo.nsga2 import NSGA2
         from pymoo.operators.crossover.sbx import SBX
         from pymoo.operators.mutation.pm import PM
 
@@ -31,6 +32,6 @@ class NSGA2Optimiser(PymooAskTell):
             sampling=self.initial_sampling(self.options.population),
             crossover=SBX(eta=self.options.crossover_eta, prob=0.9),
             mutation=PM(eta=self.options.mutation_eta),
-            eliminate_duplicates=True,
+            eliminate_duplicates=exact_duplicate_elimination(),
         )
 

@@ -1,0 +1,98 @@
+"""Issue 17: what a run imports and does before its first simulation, kept cheap without changing
+results. Each check runs in a fresh interpreter, since what matters is what a new process loads."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+NSGA2_RUN = r"""
+import json, sys
+import numpy as np
+{preload}
+import simgap
+from simgap.plugin_host import get_registry
+
+cls = get_registry().get("optimiser", "nsga2")
+problem = simgap.Problem(n_var=3, n_obj=2, variable_names=("a", "b", "c"), objective_names=("f0", "f1"),
+                         x0=np.array([0.2, np.nan, 0.7]))
+optimiser = cls(cls.Options(population=12), problem, seed=3, max_evaluations=120)
+asked = []
+for generation in range(6):
+    X = optimiser.ask()
+    asked.append(X.tolist())
+    F = np.column_stack([(X[:, 0] - 0.3) ** 2 + X[:, 2], (X[:, 0] - 0.7) ** 2 + X[:, 1]])
+    feasible = np.arange(len(X)) % 5 != 0  # some failed evaluations: the infeasible path too
+    optimiser.tell(X, np.where(feasible[:, None], F, np.inf), feasible)
+print(json.dumps({{"asked": asked, "scipy.spatial": "scipy.spatial" in sys.modules}}))
+"""
+
+
+def _nsga2_run(preload: str) -> dict:
+    done = subprocess.run([sys.executable, "-c", NSGA2_RUN.format(preload=preload)],
+                          capture_output=True, text=True, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+# pymoo's NSGA-II as it comes: scipy.spatial imported first, its own duplicate elimination
+STOCK_PYMOO = """
+import scipy.spatial.distance
+import simgap.plugins.pymoo.nsga2 as nsga2
+nsga2.exact_duplicate_elimination = lambda: True
+"""
+
+
+def test_nsga2_asks_the_same_points_as_stock_pymoo_without_importing_scipy_spatial():
+    lazy = _nsga2_run("")
+    stock = _nsga2_run(STOCK_PYMOO)
+    assert not lazy["scipy.spatial"], "NSGA-II imported scipy.spatial (about 0.4 s of CPU per run)"
+    assert stock["scipy.spatial"]
+    assert lazy["asked"] == stock["asked"]
+
+
+def test_exact_duplicate_elimination_finds_what_pymoos_default_finds():
+    import numpy as np
+    from pymoo.core.duplicate import DefaultDuplicateElimination
+    from pymoo.core.population import Population
+
+    from simgap.plugins.pymoo.ask_tell import exact_duplicate_elimination
+
+    rng = np.random.default_rng(5)
+    X = rng.random((30, 4))
+    X[7] = X[3]  # an exact duplicate
+    X[12] = np.nextafter(X[5], 2.0)  # one ulp apart: about 1e-16, on either side of the threshold
+    X[20, 2] = np.nan
+    X[21] = 0.0
+    X[22] = 0.0
+    X[23] = [0.0, 0.0, 0.0, 5e-17]  # within 1e-16 of the zeros
+    others = np.vstack([X[[1, 9]], rng.random((5, 4))])
+    pop, other = Population.new(X=X), Population.new(X=others)
+    ours, stock = exact_duplicate_elimination(), DefaultDuplicateElimination()
+    for args in ((), (other,)):
+        _, kept, dropped = ours.do(pop, *args, return_indices=True)
+        _, stock_kept, stock_dropped = stock.do(pop, *args, return_indices=True)
+        assert (kept, dropped) == (stock_kept, stock_dropped)
+        assert dropped  # the case has duplicates to find
+    for first, second in ((pop, None), (pop, other)):
+        assert np.array_equal(ours.calc_dist(first, second) <= 1e-16, stock.calc_dist(first, second) <= 1e-16)
+
+
+def test_deferred_functions_call_the_real_ones_and_later_imports_get_the_real_module():
+    code = r"""
+import sys
+import numpy as np
+from simgap.plugins.pymoo.ask_tell import deferred_module
+with deferred_module("scipy.spatial.distance"):
+    from pymoo.operators.survival.rank_and_crowding import metrics
+assert "scipy.spatial.distance" not in sys.modules
+F = np.random.default_rng(0).random((9, 2))
+via_stand_in = metrics.squareform(metrics.pdist(F, metric="sqeuclidean"))
+import scipy.spatial.distance as distance
+assert distance.pdist is not metrics.pdist and distance.pdist.__module__.startswith("scipy")
+assert np.array_equal(via_stand_in, distance.squareform(distance.pdist(F, metric="sqeuclidean")))
+print("ok")
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "ok"
