@@ -19,9 +19,16 @@ which LLVM vectorises far better (measured 2–3×) than the same loop on offset
 Points of k consecutive samples (paper B's k-vectors) are never materialised: the cost of cell
 (i, j) is the sum of k sample costs along its diagonal, kept as a running sum per diagonal that
 adds the newest sample pair and drops the oldest as the diagonal advances, recomputed exactly
-every ``_REFRESH`` anti-diagonals so rounding cannot build up. The running update, the point
-cost and the minimum are one loop (one pass over the anti-diagonal), as are the columns of a
-multi-column target.
+every ``_REFRESH`` anti-diagonals so rounding cannot build up. The dropped sample's cost is not
+recomputed: the last k sample costs of each diagonal wait in a ring (see _sweep_ring_1). The
+running update, the point cost and the minimum are one loop (one pass over the anti-diagonal),
+as are the columns of a 2- or 3-column target (one sweep function per column count).
+
+Why so few loads: a sweep is bound by its memory operations, not its arithmetic (a 5-load
+1-D cell takes ~1 cycle, 3.1 GHz Zen 3). A cell's left neighbour is the previous cell's up
+neighbour, carried in a register instead of loaded again (one vector shuffle instead of a
+load); the columns are summed in the sweep instead of through a buffer; the ring replaces the
+dropped pair's 2·d sample loads by one.
 
 Why ``noalias``: a sweep reads 5–10 array slices and writes one or two. Without knowing they
 do not overlap, LLVM vectorises only behind run-time overlap checks between every written and
@@ -114,6 +121,51 @@ def _sweep_cost(cur, prev1, prev2, cost, r, lo, hi):
         out[t] = max(c[t], 0.0) + min(diag[t], min(left[t], up[t]))
 
 
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
+def _sweep_2_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, lo, hi):
+    """One anti-diagonal, one-sample points of 2 columns (column c of sample x at c·n + x),
+    the point cost summed in the same loop as the minimum, columns in order."""
+    cnt = hi - lo + 1
+    out = cur[lo + 1 : lo + 1 + cnt]
+    diag = prev2[lo + 1 : lo + 1 + cnt]
+    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
+    a0 = a_flat[x : x + cnt]
+    b0 = b_flat[y : y + cnt]
+    a1 = a_flat[x + n : x + n + cnt]
+    b1 = b_flat[y + n : y + n + cnt]
+    # a cell's left neighbour is the previous cell's up neighbour: carried, not loaded again
+    left = prev1[lo + r]
+    for t in range(cnt):
+        d0 = a0[t] - b0[t]
+        d1 = a1[t] - b1[t]
+        above = up[t]
+        out[t] = (d0 * d0 + d1 * d1) + min(diag[t], min(left, above))
+        left = above
+
+
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
+def _sweep_3_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, lo, hi):
+    """_sweep_2_columns for 3 columns."""
+    cnt = hi - lo + 1
+    out = cur[lo + 1 : lo + 1 + cnt]
+    diag = prev2[lo + 1 : lo + 1 + cnt]
+    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
+    a0 = a_flat[x : x + cnt]
+    b0 = b_flat[y : y + cnt]
+    a1 = a_flat[x + n : x + n + cnt]
+    b1 = b_flat[y + n : y + n + cnt]
+    a2 = a_flat[x + 2 * n : x + 2 * n + cnt]
+    b2 = b_flat[y + 2 * n : y + 2 * n + cnt]
+    left = prev1[lo + r]
+    for t in range(cnt):
+        d0 = a0[t] - b0[t]
+        d1 = a1[t] - b1[t]
+        d2 = a2[t] - b2[t]
+        above = up[t]
+        out[t] = ((d0 * d0 + d1 * d1) + d2 * d2) + min(diag[t], min(left, above))
+        left = above
+
+
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_INTS(4)})", **_SWEEP)
 def _column_costs(out, a_flat, b_flat, x, y, lo, hi):
     """out[lo + 1 + t] = (a_flat[x + t] − b_flat[y + t])², the first column of several."""
@@ -128,7 +180,7 @@ def _column_costs(out, a_flat, b_flat, x, y, lo, hi):
 
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_INTS(4)})", **_SWEEP)
 def _add_column_costs(out, a_flat, b_flat, x, y, lo, hi):
-    """out[lo + 1 + t] += (a_flat[x + t] − b_flat[y + t])², a middle column of several."""
+    """out[lo + 1 + t] += (a_flat[x + t] − b_flat[y + t])², a further column of several."""
     cnt = hi - lo + 1
     acc = out[lo + 1 : lo + 1 + cnt]
     av = a_flat[x : x + cnt]
@@ -142,6 +194,7 @@ def _add_column_costs(out, a_flat, b_flat, x, y, lo, hi):
 def _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, x, y, r, lo, hi):
     """One anti-diagonal whose cells hold the other columns' cost sum: adds the last column's
     and the minimum in one loop, so the sums are those of a separate cost pass, bit for bit.
+    (More than 3 columns; 2 and 3 have one-loop sweeps.)
 
     (One function per loop shape: array variables assigned in branches cost numba reference
     counting inside the sweep, measured ~50 ns per anti-diagonal.)
@@ -149,78 +202,160 @@ def _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, x, y, r, lo, hi):
     cnt = hi - lo + 1
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
-    left = prev1[lo + r : lo + r + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
     av = a_flat[x : x + cnt]
     bv = b_flat[y : y + cnt]
+    left = prev1[lo + r]
     for t in range(cnt):
         d = av[t] - bv[t]
-        out[t] = (out[t] + d * d) + min(diag[t], min(left[t], up[t]))
+        above = up[t]
+        out[t] = (out[t] + d * d) + min(diag[t], min(left, above))
+        left = above
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
-def _sweep_running(cur, prev1, prev2, point_cost, a_rev, b, xn, yn, r, lo, hi, k):
-    """One anti-diagonal of univariate k-sample points, the running point costs updated inside
-    the sweep.
+# k-sample points. Each cell's newest sample cost (sample pair (i + k − 1, j + k − 1) of cell
+# (i, j), summed over the columns) is kept in a ring of 2k anti-diagonal rows, row s mod 2k, one
+# flat array: the sample pair a cell drops, (i − 1, j − 1), is the newest one of cell
+# (i − k, j − k) on anti-diagonal s − 2k, the same slot the cell writes. So a sweep reads one
+# ring value instead of recomputing the dropped pair's cost from all its columns, and the
+# value subtracted is exactly the one added k steps before.
 
-    Cell lo + t's point cost (per diagonal, in ``point_cost``) gains the sample pair at a_rev
-    index xn + t, b index yn + t, and loses the pair k samples back along the diagonal
-    (a_rev xn + k + t, b yn − k + t). (One function per loop shape, see _sweep_last_column.)
+
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
+def _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_rev, b, row, xn, yn, r, lo, hi):
+    """One anti-diagonal of univariate k-sample points: cell lo + t's newest sample pair is
+    a_rev[xn + t], b[yn + t]; its dropped sample cost is in ring[row + lo + 1 + t], which
+    takes the newest one's place; the running point cost of its diagonal is in ``point_cost``.
     """
     cnt = hi - lo + 1
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
-    left = prev1[lo + r : lo + r + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
     pc = point_cost[lo + 1 : lo + 1 + cnt]
+    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
     an = a_rev[xn : xn + cnt]
     bn = b[yn : yn + cnt]
-    ao = a_rev[xn + k : xn + k + cnt]
-    bo = b[yn - k : yn - k + cnt]
+    left = prev1[lo + r]
     for t in range(cnt):
         x = an[t] - bn[t]
-        y = ao[t] - bo[t]
-        cost = pc[t] + (x * x - y * y)
+        newest = x * x
+        cost = pc[t] + (newest - dropped[t])
+        dropped[t] = newest
         pc[t] = cost
+        above = up[t]
         # a running sum can end a hair below zero by rounding; a cost never is
-        out[t] = max(cost, 0.0) + min(diag[t], min(left[t], up[t]))
+        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        left = above
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_INTS(5)})", **_SWEEP)
-def _add_column_changes(change, a_flat, b_flat, xn, yn, k, lo, hi):
-    """change[lo + 1 + t] += (new − old sample cost) of one column, indices as in _sweep_running."""
-    cnt = hi - lo + 1
-    acc = change[lo + 1 : lo + 1 + cnt]
-    an = a_flat[xn : xn + cnt]
-    bn = b_flat[yn : yn + cnt]
-    ao = a_flat[xn + k : xn + k + cnt]
-    bo = b_flat[yn - k : yn - k + cnt]
-    for t in range(cnt):
-        x = an[t] - bn[t]
-        y = ao[t] - bo[t]
-        acc[t] += x * x - y * y
-
-
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
-def _sweep_running_last(cur, prev1, prev2, point_cost, change, a_rev, b, xn, yn, r, lo, hi, k):
-    """_sweep_running for the last of several columns, the others' changes summed in ``change``."""
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
+def _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
+    """_sweep_ring_1 for 2 columns (column c of sample x at c·n + x)."""
     cnt = hi - lo + 1
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
-    left = prev1[lo + r : lo + r + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
     pc = point_cost[lo + 1 : lo + 1 + cnt]
-    acc = change[lo + 1 : lo + 1 + cnt]
-    an = a_rev[xn : xn + cnt]
-    bn = b[yn : yn + cnt]
-    ao = a_rev[xn + k : xn + k + cnt]
-    bo = b[yn - k : yn - k + cnt]
+    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
+    a0 = a_flat[xn : xn + cnt]
+    b0 = b_flat[yn : yn + cnt]
+    a1 = a_flat[xn + n : xn + n + cnt]
+    b1 = b_flat[yn + n : yn + n + cnt]
+    left = prev1[lo + r]
     for t in range(cnt):
-        x = an[t] - bn[t]
-        y = ao[t] - bo[t]
-        cost = pc[t] + (acc[t] + (x * x - y * y))
+        d0 = a0[t] - b0[t]
+        d1 = a1[t] - b1[t]
+        newest = d0 * d0 + d1 * d1
+        cost = pc[t] + (newest - dropped[t])
+        dropped[t] = newest
         pc[t] = cost
-        out[t] = max(cost, 0.0) + min(diag[t], min(left[t], up[t]))
+        above = up[t]
+        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        left = above
+
+
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
+def _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
+    """_sweep_ring_1 for 3 columns."""
+    cnt = hi - lo + 1
+    out = cur[lo + 1 : lo + 1 + cnt]
+    diag = prev2[lo + 1 : lo + 1 + cnt]
+    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
+    pc = point_cost[lo + 1 : lo + 1 + cnt]
+    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
+    a0 = a_flat[xn : xn + cnt]
+    b0 = b_flat[yn : yn + cnt]
+    a1 = a_flat[xn + n : xn + n + cnt]
+    b1 = b_flat[yn + n : yn + n + cnt]
+    a2 = a_flat[xn + 2 * n : xn + 2 * n + cnt]
+    b2 = b_flat[yn + 2 * n : yn + 2 * n + cnt]
+    left = prev1[lo + r]
+    for t in range(cnt):
+        d0 = a0[t] - b0[t]
+        d1 = a1[t] - b1[t]
+        d2 = a2[t] - b2[t]
+        newest = (d0 * d0 + d1 * d1) + d2 * d2
+        cost = pc[t] + (newest - dropped[t])
+        dropped[t] = newest
+        pc[t] = cost
+        above = up[t]
+        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        left = above
+
+
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(4)})", **_SWEEP)
+def _sweep_ring_sums(cur, prev1, prev2, point_cost, ring, newest_costs, row, r, lo, hi):
+    """_sweep_ring_1 with the newest sample costs already summed over the columns in
+    ``newest_costs`` (indexed like the buffers): more than 3 columns."""
+    cnt = hi - lo + 1
+    out = cur[lo + 1 : lo + 1 + cnt]
+    diag = prev2[lo + 1 : lo + 1 + cnt]
+    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
+    pc = point_cost[lo + 1 : lo + 1 + cnt]
+    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
+    nc = newest_costs[lo + 1 : lo + 1 + cnt]
+    left = prev1[lo + r]
+    for t in range(cnt):
+        newest = nc[t]
+        cost = pc[t] + (newest - dropped[t])
+        dropped[t] = newest
+        pc[t] = cost
+        above = up[t]
+        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        left = above
+
+
+@njit(f"void({_VEC}, {_VEC}, {_MAT}, {_MAT}, {_INTS(6)})", cache=True)
+def _start_diagonal(point_cost, ring, a_rev_t, b_t, xa, jb, q, s, k, size):
+    """Cell q of anti-diagonal s starts its diagonal (a matrix edge): its point cost, its k
+    sample pairs a_rev index xa − lag, b index jb + lag, from scratch. Sample lag goes in the
+    ring row it would have had as the newest sample of a cell lag − k + 1 steps back on the
+    diagonal, so the cells after it drop it from there."""
+    span = 2 * k
+    total = 0.0
+    for lag in range(k):
+        cost = 0.0
+        for c in range(b_t.shape[0]):
+            diff = a_rev_t[c, xa - lag] - b_t[c, jb + lag]
+            cost += diff * diff
+        ring[((s - 2 * (k - 1 - lag)) % span) * size + q + 1] = cost
+        total += cost
+    point_cost[q + 1] = total
+
+
+@njit(f"void({_VEC}, {_VEC}, {_INTS(5)})", cache=True)
+def _refresh_point_costs(point_cost, ring, s, k, size, lo, hi):
+    """The point costs of anti-diagonal s's cells lo..hi summed afresh from the k sample costs
+    in the ring (oldest first, as _start_diagonal sums them), so rounding cannot build up."""
+    span = 2 * k
+    cnt = hi - lo + 1
+    pc = point_cost[lo + 1 : lo + 1 + cnt]
+    pc[:] = 0.0
+    for lag in range(k):
+        row = ((s - 2 * (k - 1 - lag)) % span) * size
+        costs = ring[row + lo + 1 : row + lo + 1 + cnt]
+        for t in range(cnt):
+            pc[t] += costs[t]
 
 
 @njit(f"float64({_VEC}, {_VEC}, int64)", cache=True)
@@ -269,14 +404,6 @@ def _add_sample_costs(out, a_rev_t, b_t, ia, jb, n, sign):
             out[t] += sign * (d * d)
 
 
-@njit(f"void({_VEC}, {_MAT}, {_MAT}, {_INTS(4)})", cache=True)
-def _fresh_point_costs(out, a_rev_t, b_t, ia, jb, n, k):
-    """out[t] = cost of the k-sample points at a_rev index ia + t and b index jb + t."""
-    out[:n] = 0.0
-    for lag in range(k):
-        _add_sample_costs(out, a_rev_t, b_t, ia - lag, jb + lag, n, 1.0)
-
-
 @njit(f"float64({_MAT}, {_MAT}, int64, int64)", cache=True)
 def banded_dtw(a_t, b_t, w, k):
     """Raw DTW sum of two (d, n) float64 series (columns as rows) with k-sample points.
@@ -303,68 +430,92 @@ def banded_dtw(a_t, b_t, w, k):
     cur = np.full(size, np.inf)
     prev1 = np.full(size, np.inf)
     prev2 = np.full(size, np.inf)
-    # Point costs per diagonal; anti-diagonals of one parity share the q numbering, so the
-    # running sums of anti-diagonal s−2 sit in the row of s.
-    point_cost = np.zeros((2, size))
-    scratch = np.zeros(size)
     d = a_t.shape[0]
-    a_flat, b_flat = a_rev_t.ravel(), b_t.ravel()
-
+    a_flat, b_flat = a_rev_t.ravel(), b_t.ravel()  # column c of sample x at c·n + x
     q0 = w // 2
-    _fresh_point_costs(scratch, a_rev_t, b_t, n - 1, 0, 1, k)
-    point_cost[w & 1, q0 + 1] = scratch[0]
-    prev1[q0 + 1] = scratch[0]
 
+    if k == 1:
+        d0 = a_t[:, 0] - b_t[:, 0]
+        cost0 = 0.0
+        for c in range(d):
+            cost0 += d0[c] * d0[c]
+        prev1[q0 + 1] = cost0
+        for s in range(1, 2 * (m - 1) + 1):
+            r = (s + w) & 1
+            q_lo, q_hi = _valid_q_range(s, w, m)
+            i0 = (s - r + w) // 2
+            j0 = (s + r - w) // 2
+            x, y = n - 1 - i0 + q_lo, j0 + q_lo  # samples of cell q_lo
+            _clear_outside(cur, q_lo, q_hi, w)
+            if d == 1:
+                _sweep_1d(cur, prev1, prev2, a_flat, b_flat, x - q_lo, j0, r, q_lo, q_hi)
+            elif d == 2:
+                _sweep_2_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, q_lo, q_hi)
+            elif d == 3:
+                _sweep_3_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, q_lo, q_hi)
+            else:
+                _column_costs(cur, a_flat, b_flat, x, y, q_lo, q_hi)
+                for c in range(n, (d - 1) * n, n):
+                    _add_column_costs(cur, a_flat, b_flat, c + x, c + y, q_lo, q_hi)
+                c = (d - 1) * n
+                _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, c + x, c + y, r, q_lo, q_hi)
+            prev2, prev1, cur = prev1, cur, prev2
+        return prev1[q0 + 1]
+
+    # Running point costs per diagonal: anti-diagonals of one parity share the q numbering, so
+    # those of anti-diagonal s−2 are in the buffer swept at s (two buffers, swapped like the
+    # others: no array views made inside the loop). The ring rows are offsets into one array.
+    point_cost = np.zeros(size)
+    point_cost_other = np.zeros(size)
+    ring = np.zeros(2 * k * size)
+    ring_end = 2 * k * size
+    newest = np.zeros(size)
+
+    _start_diagonal(point_cost, ring, a_rev_t, b_t, n - 1, 0, q0, 0, k, size)
+    prev1[q0 + 1] = point_cost[q0 + 1]
+    point_cost, point_cost_other = point_cost_other, point_cost
+    row = 0
     for s in range(1, 2 * (m - 1) + 1):
         r = (s + w) & 1
         q_lo, q_hi = _valid_q_range(s, w, m)
         i0 = (s - r + w) // 2
         j0 = (s + r - w) // 2
         ia = n - 1 - i0  # a_rev index of sample a[i0 − q] is ia + q
-        pc = point_cost[r]
+        row += size
+        if row == ring_end:
+            row = 0
         _clear_outside(cur, q_lo, q_hi, w)
-
-        if k == 1 and d == 1:
-            _sweep_1d(cur, prev1, prev2, a_flat, b_flat, ia, j0, r, q_lo, q_hi)
-        elif k == 1:
-            # column c of sample x is at c·n + x of the raveled (d, n) arrays
-            _column_costs(cur, a_flat, b_flat, ia + q_lo, j0 + q_lo, q_lo, q_hi)
-            for c in range(n, (d - 1) * n, n):
-                _add_column_costs(cur, a_flat, b_flat, c + ia + q_lo, c + j0 + q_lo, q_lo, q_hi)
-            c = (d - 1) * n
-            _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, c + ia + q_lo, c + j0 + q_lo, r, q_lo, q_hi)
-        else:
-            # k-sample points: the running point cost of each diagonal lives in ``pc``.
-            lo, hi = q_lo, q_hi
-            if s % _REFRESH == 0:
-                _fresh_point_costs(pc[lo + 1 :], a_rev_t, b_t, ia + lo, j0 + lo, hi - lo + 1, k)
-                _sweep_cost(cur, prev1, prev2, pc, r, lo, hi)
+        lo, hi = q_lo, q_hi
+        # A cell on the top or left matrix edge starts its diagonal: no running sum yet.
+        if j0 + lo == 0:
+            _start_diagonal(point_cost, ring, a_rev_t, b_t, ia + lo, 0, lo, s, k, size)
+            _sweep_cost(cur, prev1, prev2, point_cost, r, lo, lo)
+            lo += 1
+        if hi >= lo and i0 - hi == 0:
+            _start_diagonal(point_cost, ring, a_rev_t, b_t, n - 1, j0 + hi, hi, s, k, size)
+            _sweep_cost(cur, prev1, prev2, point_cost, r, hi, hi)
+            hi -= 1
+        if hi >= lo:
+            # point (i, j) = point (i−1, j−1) + samples (i+k−1, j+k−1) − samples (i−1, j−1)
+            xn, yn = ia + lo - k + 1, j0 + lo + k - 1
+            if d == 1:
+                _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, r, lo, hi)
+            elif d == 2:
+                _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi)
+            elif d == 3:
+                _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi)
             else:
-                # A cell on the top or left matrix edge starts its diagonal: no running sum yet.
-                if j0 + lo == 0:
-                    _fresh_point_costs(pc[lo + 1 :], a_rev_t, b_t, ia + lo, 0, 1, k)
-                    _sweep_cost(cur, prev1, prev2, pc, r, lo, lo)
-                    lo += 1
-                if hi >= lo and i0 - hi == 0:
-                    _fresh_point_costs(pc[hi + 1 :], a_rev_t, b_t, n - 1, j0 + hi, 1, k)
-                    _sweep_cost(cur, prev1, prev2, pc, r, hi, hi)
-                    hi -= 1
-                if hi >= lo:
-                    # point (i, j) = point (i−1, j−1) + samples (i+k−1, j+k−1) − samples (i−1, j−1)
-                    xn, yn = ia + lo - k + 1, j0 + lo + k - 1
-                    if d == 1:
-                        _sweep_running(cur, prev1, prev2, pc, a_flat, b_flat, xn, yn, r, lo, hi, k)
-                    else:
-                        scratch[lo + 1 : hi + 2] = 0.0
-                        for c in range(0, (d - 1) * n, n):
-                            _add_column_changes(scratch, a_flat, b_flat, c + xn, c + yn, k, lo, hi)
-                        c = (d - 1) * n
-                        _sweep_running_last(
-                            cur, prev1, prev2, pc, scratch, a_flat, b_flat, c + xn, c + yn, r, lo, hi, k
-                        )
+                _column_costs(newest, a_flat, b_flat, xn, yn, lo, hi)
+                for c in range(n, d * n, n):
+                    _add_column_costs(newest, a_flat, b_flat, c + xn, c + yn, lo, hi)
+                _sweep_ring_sums(cur, prev1, prev2, point_cost, ring, newest, row, r, lo, hi)
+        if s % _REFRESH == 0:
+            _refresh_point_costs(point_cost, ring, s, k, size, q_lo, q_hi)
         prev2, prev1, cur = prev1, cur, prev2
+        point_cost, point_cost_other = point_cost_other, point_cost
 
-    return prev1[w // 2 + 1]
+    # The last anti-diagonal (now prev1) holds only cell (m−1, m−1), at q = w // 2.
+    return prev1[q0 + 1]
 
 
 def warm_up() -> None:
