@@ -92,6 +92,21 @@ def _clear_outside(cur, q_lo, q_hi, w):
         cur[q + 1] = np.inf
 
 
+# Padded sweeps run over a multiple of 4 cells (4 float64 per AVX2 vector), up to 3 cells past
+# hi. With a remainder loop after the vector loop, LLVM keeps both loops' pointers live and
+# spills some of them inside the vector loop (3–5 stack loads per 4 cells in the ring sweeps,
+# which are bound by memory operations); a trip count LLVM can see is a multiple of 4 has no
+# remainder loop. The cells past hi are outside the matrix or the band: the buffers and the
+# flat series have room for them (_PAD), and banded_dtw overwrites what they wrote (see there).
+_PAD = 3
+
+
+@njit("int64(int64, int64)", cache=True, inline="always")
+def _padded_count(lo, hi):
+    """hi − lo + 1 rounded up to a multiple of 4."""
+    return ((hi - lo) | 3) + 1
+
+
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(5)})", **_SWEEP)
 def _sweep_1d(cur, prev1, prev2, a_rev, b, ia, jb, r, lo, hi):
     """One anti-diagonal, univariate one-sample points: cost computed in the same loop."""
@@ -125,7 +140,7 @@ def _sweep_cost(cur, prev1, prev2, cost, r, lo, hi):
 def _sweep_2_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, lo, hi):
     """One anti-diagonal, one-sample points of 2 columns (column c of sample x at c·n + x),
     the point cost summed in the same loop as the minimum, columns in order."""
-    cnt = hi - lo + 1
+    cnt = _padded_count(lo, hi)
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
@@ -146,7 +161,7 @@ def _sweep_2_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, lo, hi):
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
 def _sweep_3_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, lo, hi):
     """_sweep_2_columns for 3 columns."""
-    cnt = hi - lo + 1
+    cnt = _padded_count(lo, hi)
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
@@ -227,7 +242,7 @@ def _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_rev, b, row, xn, yn, r,
     a_rev[xn + t], b[yn + t]; its dropped sample cost is in ring[row + lo + 1 + t], which
     takes the newest one's place; the running point cost of its diagonal is in ``point_cost``.
     """
-    cnt = hi - lo + 1
+    cnt = _padded_count(lo, hi)
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
@@ -251,7 +266,7 @@ def _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_rev, b, row, xn, yn, r,
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
 def _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
     """_sweep_ring_1 for 2 columns (column c of sample x at c·n + x)."""
-    cnt = hi - lo + 1
+    cnt = _padded_count(lo, hi)
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
@@ -277,7 +292,7 @@ def _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, 
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
 def _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
     """_sweep_ring_1 for 3 columns."""
-    cnt = hi - lo + 1
+    cnt = _padded_count(lo, hi)
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
@@ -307,7 +322,7 @@ def _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, 
 def _sweep_ring_sums(cur, prev1, prev2, point_cost, ring, newest_costs, row, r, lo, hi):
     """_sweep_ring_1 with the newest sample costs already summed over the columns in
     ``newest_costs`` (indexed like the buffers): more than 3 columns."""
-    cnt = hi - lo + 1
+    cnt = _padded_count(lo, hi)
     out = cur[lo + 1 : lo + 1 + cnt]
     diag = prev2[lo + 1 : lo + 1 + cnt]
     up = prev1[lo + r + 1 : lo + r + 1 + cnt]
@@ -425,13 +440,19 @@ def banded_dtw(a_t, b_t, w, k):
             total += min(i + 1, k, n - i, m) * costs[i]
         return total
 
-    a_rev_t = np.ascontiguousarray(a_t[:, ::-1])  # a[i] is a_rev_t[:, n − 1 − i]
-    size = w + 3
+    d = a_t.shape[0]
+    # Column c of sample x at c·n + x, and _PAD readable values after the last column for the
+    # padded sweeps (a cell past hi reads one to three samples further).
+    a_flat = np.zeros(d * n + _PAD)
+    for c in range(d):
+        a_flat[c * n : (c + 1) * n] = a_t[c, ::-1]
+    a_rev_t = a_flat[: d * n].reshape(d, n)  # a[i] is a_rev_t[:, n − 1 − i]
+    b_flat = np.zeros(d * n + _PAD)
+    b_flat[: d * n] = b_t.ravel()
+    size = w + 3 + _PAD
     cur = np.full(size, np.inf)
     prev1 = np.full(size, np.inf)
     prev2 = np.full(size, np.inf)
-    d = a_t.shape[0]
-    a_flat, b_flat = a_rev_t.ravel(), b_t.ravel()  # column c of sample x at c·n + x
     q0 = w // 2
 
     if k == 1:
@@ -446,7 +467,6 @@ def banded_dtw(a_t, b_t, w, k):
             i0 = (s - r + w) // 2
             j0 = (s + r - w) // 2
             x, y = n - 1 - i0 + q_lo, j0 + q_lo  # samples of cell q_lo
-            _clear_outside(cur, q_lo, q_hi, w)
             if d == 1:
                 _sweep_1d(cur, prev1, prev2, a_flat, b_flat, x - q_lo, j0, r, q_lo, q_hi)
             elif d == 2:
@@ -459,6 +479,8 @@ def banded_dtw(a_t, b_t, w, k):
                     _add_column_costs(cur, a_flat, b_flat, c + x, c + y, q_lo, q_hi)
                 c = (d - 1) * n
                 _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, c + x, c + y, r, q_lo, q_hi)
+            # after the sweep: also wipes what a padded sweep wrote past q_hi
+            _clear_outside(cur, q_lo, q_hi, w)
             prev2, prev1, cur = prev1, cur, prev2
         return prev1[q0 + 1]
 
@@ -484,16 +506,15 @@ def banded_dtw(a_t, b_t, w, k):
         row += size
         if row == ring_end:
             row = 0
-        _clear_outside(cur, q_lo, q_hi, w)
         lo, hi = q_lo, q_hi
-        # A cell on the top or left matrix edge starts its diagonal: no running sum yet.
+        # A cell on the top or left matrix edge starts its diagonal: no running sum yet. The
+        # top one is done after the padded sweep, which runs over it.
         if j0 + lo == 0:
             _start_diagonal(point_cost, ring, a_rev_t, b_t, ia + lo, 0, lo, s, k, size)
             _sweep_cost(cur, prev1, prev2, point_cost, r, lo, lo)
             lo += 1
-        if hi >= lo and i0 - hi == 0:
-            _start_diagonal(point_cost, ring, a_rev_t, b_t, n - 1, j0 + hi, hi, s, k, size)
-            _sweep_cost(cur, prev1, prev2, point_cost, r, hi, hi)
+        top_edge = hi >= lo and i0 - hi == 0
+        if top_edge:
             hi -= 1
         if hi >= lo:
             # point (i, j) = point (i−1, j−1) + samples (i+k−1, j+k−1) − samples (i−1, j−1)
@@ -509,6 +530,13 @@ def banded_dtw(a_t, b_t, w, k):
                 for c in range(n, d * n, n):
                     _add_column_costs(newest, a_flat, b_flat, c + xn, c + yn, lo, hi)
                 _sweep_ring_sums(cur, prev1, prev2, point_cost, ring, newest, row, r, lo, hi)
+        if top_edge:
+            # Cells past the sweep's hi were written with what the padded sweep read there
+            # (the point costs and ring slots of diagonals not yet or no longer in the matrix,
+            # started afresh when they enter it); this one enters here.
+            _start_diagonal(point_cost, ring, a_rev_t, b_t, n - 1, j0 + q_hi, q_hi, s, k, size)
+            _sweep_cost(cur, prev1, prev2, point_cost, r, q_hi, q_hi)
+        _clear_outside(cur, q_lo, q_hi, w)
         if s % _REFRESH == 0:
             _refresh_point_costs(point_cost, ring, s, k, size, q_lo, q_hi)
         prev2, prev1, cur = prev1, cur, prev2
