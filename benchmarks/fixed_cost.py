@@ -1,6 +1,6 @@
 """CPU of a quickstart-sized run beyond its simulations: the fixed cost per run and per evaluation.
 
-    python benchmarks/fixed_cost.py [--small 40] [--large 400] [--repeats 3] [--workers 2]
+    python benchmarks/fixed_cost.py [--small 40] [--large 400] [--repeats 3] [--workers 2] [--against REV]
 
 Runs ``simgap run workflows/quickstart.yaml`` as a fresh process with two budgets (one
 generation of 40 and ten generations), interleaved (small, large, small, large …), and takes the
@@ -22,6 +22,11 @@ quickstart FMU (process time of ``simulate`` on the training segment with its wa
 loops: a short run stays in the Python loop, see plugins/fmu/steploop.py) plus the two metrics.
 Import times are measured too (``python -c "import simgap"`` and ``simgap --help`` in fresh
 processes). The machine is shared: the load is printed before and after; trust ratios.
+
+``--against REV`` (a git revision at or after 8f37550, where the figures moved to a background
+process) runs that revision's simgap too, from a ``git archive`` of it laid out as the package
+and put first on PYTHONPATH, interleaved run by run with the checkout's: on a loaded machine
+the two see the same load, so their difference is the change's.
 """
 
 from __future__ import annotations
@@ -48,7 +53,7 @@ def children_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def run_process(command: list[str], by_process: dict | None = None) -> tuple[float, float]:
+def run_process(command: list[str], by_process: dict | None = None, env: dict | None = None) -> tuple[float, float]:
     """(wall seconds, CPU seconds of the process and its descendants) of one command.
 
     With ``by_process``, the process tree is sampled every 50 ms (psutil) and the last CPU time
@@ -57,7 +62,7 @@ def run_process(command: list[str], by_process: dict | None = None) -> tuple[flo
     before = children_cpu()
     started = time.perf_counter()
     with tempfile.TemporaryFile("w+") as stderr:
-        process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=stderr)
+        process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=stderr, env=env)
         seen: dict[int, tuple[str, float]] = {}
         while process.poll() is None:
             if by_process is not None:
@@ -151,12 +156,67 @@ def evaluation_cpu() -> dict[str, float]:
     return out
 
 
+def revision_tree(revision: str, folder: Path) -> Path:
+    """A folder that, first on PYTHONPATH, makes ``import simgap`` that revision's package
+    (core as simgap, with its plugins, models and example data where pyproject.toml puts them)."""
+    source = folder / "source"
+    source.mkdir()
+    archive = subprocess.run(["git", "-C", str(REPO), "archive", revision, "core", "plugins", "examples"],
+                             capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(source)], input=archive, check=True)
+    site = folder / "site"
+    package = site / "simgap"
+    site.mkdir()
+    (source / "core").rename(package)
+    (source / "plugins").rename(package / "plugins")
+    (source / "examples" / "models").rename(package / "models")
+    (source / "examples" / "data").rename(package / "example_data")
+    return site
+
+
+CLIENT = "client (simgap run: data, optimiser, scheduler)"
+WORKERS = "local worker processes (forked, simgap.local_executor)"
+
+
+def summarise(label: str, args, cpu: dict, wall: dict, figures: dict, roles: dict, work: float) -> None:
+    small, large = args.small, args.large
+    c_small, c_large = statistics.median(cpu[small]), statistics.median(cpu[large])
+    slope = (c_large - c_small) / (large - small)
+    fixed = c_small - small * slope
+    print(f"\n{label}: workers {args.workers}; medians of {args.repeats} interleaved runs")
+    print(f"  wall per run: {statistics.median(wall[small]):.2f} s ({small} evaluations), "
+          f"{statistics.median(wall[large]):.2f} s ({large})")
+    print(f"  CPU per run:  {c_small:.2f} s ({small}), {c_large:.2f} s ({large})")
+    figure_cpu = statistics.median(f["cpu_s"] for f in figures[small])
+    figure_wall = statistics.median(f["wall_s"] for f in figures[small])
+    print(f"  fixed CPU per run, critical path (intercept): {fixed:.2f} s   [target <= 1.5 s]")
+    print(f"  figures (plots + report.html, background process): {figure_cpu:.2f} s CPU, {figure_wall:.2f} s wall "
+          f"({small} evaluations; {statistics.median(f['cpu_s'] for f in figures[large]):.2f} s CPU at {large})")
+    print(f"  fixed CPU per run including the figures: {fixed + figure_cpu:.2f} s")
+    print(f"  CPU per evaluation (slope): {slope * 1e3:.2f} ms, of which simulation + metrics "
+          f"{work * 1e3:.2f} ms (Python loop); framework {max(slope - work, 0) * 1e3:.2f} ms   [target <= 0.3 ms]")
+    print("  CPU by process (median over runs, sampled every 50 ms):")
+    medians = {}
+    for n in (small, large):
+        names = sorted({name for run in roles[n].values() for name in run})
+        for name in names:
+            medians[n, name] = statistics.median(run.get(name, 0.0) for run in roles[n].values())
+            print(f"    {n:>4} evaluations  {name:<58} {medians[n, name]:6.2f} s")
+    # the slope split by process: the client's share is the optimiser, the log and the pool's
+    # messages; the workers' beyond the simulation and metrics is their side of the pool
+    client = (medians.get((large, CLIENT), 0.0) - medians.get((small, CLIENT), 0.0)) / (large - small)
+    workers = (medians.get((large, WORKERS), 0.0) - medians.get((small, WORKERS), 0.0)) / (large - small)
+    print(f"  per evaluation by process (sampled): client {client * 1e3:.2f} ms, workers {workers * 1e3:.2f} ms "
+          f"(beyond simulation + metrics {(workers - work) * 1e3:.2f} ms)")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--small", type=int, default=40)
     parser.add_argument("--large", type=int, default=400)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--against", metavar="REV", help="also run this git revision, interleaved with the checkout")
     args = parser.parse_args(argv)
     print(f"load before {os.getloadavg()}")
 
@@ -174,48 +234,35 @@ def main(argv=None) -> None:
           f"{per_eval['python loop'] * 1e3:.3f} ms (Python loop), {per_eval['compiled loop'] * 1e3:.3f} ms "
           f"(compiled loop); metrics {per_eval['metrics'] * 1e3:.3f} ms")
 
-    cpu = {args.small: [], args.large: []}
-    wall = {args.small: [], args.large: []}
-    figures = {args.small: [], args.large: []}
-    roles = {args.small: {}, args.large: {}}
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
-        workflows = {n: workflow_with_budget(n, folder) for n in cpu}
+        variants = {"checkout": None}
+        if args.against:
+            tree = folder / "against"
+            tree.mkdir()
+            env = dict(os.environ, PYTHONPATH=str(revision_tree(args.against, tree)))
+            variants[args.against] = env
+        results = {label: {key: {args.small: [], args.large: []} for key in ("cpu", "wall", "figures")}
+                   | {"roles": {args.small: {}, args.large: {}}} for label in variants}
+        workflows = {n: workflow_with_budget(n, folder) for n in (args.small, args.large)}
         for repeat in range(args.repeats):
             for n in (args.small, args.large):
-                by_process = roles[n].setdefault(repeat, {})
-                out = folder / f"out{n}_{repeat}"
-                w, c = run_process([sys.executable, "-m", "simgap.cli", "run", str(workflows[n]),
-                                    "--workers", str(args.workers), "--out", str(out), "--figures", "background"],
-                                   by_process)
-                drawn = wait_for_figures(next(out.iterdir()))  # before the next run: no overlap
-                wall[n].append(w)
-                cpu[n].append(c)
-                figures[n].append(drawn)
-                print(f"  run {repeat + 1}, {n:>4} evaluations: {w:6.2f} s wall, {c:6.2f} s CPU (all processes); "
-                      f"figures {drawn['cpu_s']:.2f} s CPU, {drawn['wall_s']:.2f} s wall; load {os.getloadavg()[0]:.2f}")
-    c_small, c_large = statistics.median(cpu[args.small]), statistics.median(cpu[args.large])
-    slope = (c_large - c_small) / (args.large - args.small)
-    fixed = c_small - args.small * slope
+                for label, env in variants.items():
+                    result = results[label]
+                    by_process = result["roles"][n].setdefault(repeat, {})
+                    out = folder / f"out-{label}-{n}-{repeat}"
+                    w, c = run_process([sys.executable, "-m", "simgap.cli", "run", str(workflows[n]),
+                                        "--workers", str(args.workers), "--out", str(out), "--figures", "background"],
+                                       by_process, env)
+                    drawn = wait_for_figures(next(out.iterdir()))  # before the next run: no overlap
+                    result["wall"][n].append(w)
+                    result["cpu"][n].append(c)
+                    result["figures"][n].append(drawn)
+                    print(f"  run {repeat + 1}, {label}, {n:>4} evaluations: {w:6.2f} s wall, {c:6.2f} s CPU (all processes); "
+                          f"figures {drawn['cpu_s']:.2f} s CPU, {drawn['wall_s']:.2f} s wall; load {os.getloadavg()[0]:.2f}")
     work = per_eval["python loop"] + per_eval["metrics"]
-    print(f"\nworkers {args.workers}; medians of {args.repeats} interleaved runs")
-    print(f"  wall per run: {statistics.median(wall[args.small]):.2f} s ({args.small} evaluations), "
-          f"{statistics.median(wall[args.large]):.2f} s ({args.large})")
-    print(f"  CPU per run:  {c_small:.2f} s ({args.small}), {c_large:.2f} s ({args.large})")
-    figure_cpu = statistics.median(f["cpu_s"] for f in figures[args.small])
-    figure_wall = statistics.median(f["wall_s"] for f in figures[args.small])
-    print(f"  fixed CPU per run, critical path (intercept): {fixed:.2f} s   [target <= 1.5 s]")
-    print(f"  figures (plots + report.html, background process): {figure_cpu:.2f} s CPU, {figure_wall:.2f} s wall "
-          f"({args.small} evaluations; {statistics.median(f['cpu_s'] for f in figures[args.large]):.2f} s CPU at {args.large})")
-    print(f"  fixed CPU per run including the figures: {fixed + figure_cpu:.2f} s")
-    print(f"  CPU per evaluation (slope): {slope * 1e3:.2f} ms, of which simulation + metrics "
-          f"{work * 1e3:.2f} ms (Python loop); framework {max(slope - work, 0) * 1e3:.2f} ms   [target <= 0.3 ms]")
-    print("  CPU by process (median over runs, sampled every 50 ms):")
-    for n in (args.small, args.large):
-        names = sorted({name for run in roles[n].values() for name in run})
-        for name in names:
-            value = statistics.median(run.get(name, 0.0) for run in roles[n].values())
-            print(f"    {n:>4} evaluations  {name:<58} {value:6.2f} s")
+    for label, result in results.items():
+        summarise(label, args, result["cpu"], result["wall"], result["figures"], result["roles"], work)
     print(f"load after {os.getloadavg()}")
 
 
