@@ -26,6 +26,10 @@ CASES = [
     (300, 48, 1, 4),
     (257, 17, 3, 4),
     (1000, 96, 6, 2),
+    # one sweep function per column count (2, 3, more), each padded past the band's last cell:
+    # windows that are and are not one short of a multiple of 4 cells, matrix corners included
+    *[(n, w, k, d) for n in (9, 64, 130) for w in (3, 4, 6, 7, 10)
+      for k in (1, 2, 5) for d in (2, 5)],
 ]
 
 
