@@ -119,6 +119,14 @@ class Simulator(ABC):
     def close(self) -> None:
         """Free what :meth:`simulate` built (called when a worker shuts down, if at all)."""
 
+    def before_fork(self, cases: Sequence[SimulationCase], runs: int) -> None:
+        """Called in a run's own process just before it forks its local worker processes, with
+        the cases and about how many times the run will simulate each of them, all workers
+        together. A simulator may load here, once, what pays off over that many simulations
+        and what every worker would otherwise load for itself: forked workers inherit it.
+        Optional: by default nothing.
+        """
+
     def read_outputs(self, path: Path, names: Sequence[str]) -> pd.DataFrame:
         """Series ``names`` from a result file the simulator's tool wrote outside simgap.
 

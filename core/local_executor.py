@@ -176,6 +176,11 @@ class LocalExecutor:
         return worker
 
     @property
+    def forks(self) -> bool:
+        """True where workers are forked, so they inherit what this process has loaded."""
+        return self._context.get_start_method() == "fork"
+
+    @property
     def n_workers(self) -> int:
         return max(1, len(self._workers))
 

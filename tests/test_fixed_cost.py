@@ -96,3 +96,57 @@ print("ok")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "ok"
+
+
+# ---------------------------------------------------------------------------------------------
+# The compiled step loop, loaded once before the workers fork when the run is long enough
+
+
+def _quickstart_workflow(tmp_path, evaluations: int):
+    import re
+
+    from tests.conftest import QUICKSTART, absolutise
+
+    text = absolutise(QUICKSTART.read_text(), QUICKSTART.parent)
+    text = re.sub(r"budget: \{evaluations: \d+\}", f"budget: {{evaluations: {evaluations}}}", text)
+    text = re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M)
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    path = tmp_path / "quickstart.yaml"
+    path.write_text(text)
+    return path
+
+
+def test_fmu_loads_the_compiled_loop_before_fork_only_when_the_python_loop_would_cost_more(tmp_path, monkeypatch):
+    from simgap.plugins.fmu import steploop
+    from simgap.setup import prepare
+
+    setup = prepare(_quickstart_workflow(tmp_path, 40)).training
+    monkeypatch.setattr(steploop, "_state", steploop._ProcessState())
+    setup.simulator.before_fork(setup.cases, 400)  # 400 x 288 steps: about 0.3 s in Python
+    assert not steploop.compiled_loop_in_use()
+    setup.simulator.before_fork(setup.cases, 2400)  # the quickstart's budget: about 1.7 s in Python
+    assert steploop.compiled_loop_in_use()
+
+
+def test_a_run_with_the_loop_loaded_before_fork_logs_what_the_python_loop_logs(tmp_path, monkeypatch):
+    import numpy as np
+
+    import simgap
+    from simgap.calibrate import calibrate
+    from simgap.plugins.fmu import steploop
+    from simgap.setup import prepare
+
+    def objectives(label: str, load_above: float):
+        monkeypatch.setattr(steploop, "_state", steploop._ProcessState())
+        monkeypatch.setattr(steploop, "COMPILE_AFTER_SECONDS", float("inf"))  # no worker compiles for itself
+        monkeypatch.setattr(steploop, "LOAD_BEFORE_FORK_ABOVE_SECONDS", load_above)
+        workflow = _quickstart_workflow(tmp_path / label, 40)
+        run = simgap.load_run(calibrate(prepare(workflow), workers=2))
+        columns = sorted(c for c in run.evaluations.columns if c.startswith(("param.", "error.", "objective.")))
+        return steploop.compiled_loop_in_use(), run.evaluations.sort_values("eval_id")[columns].to_numpy()
+
+    loaded, compiled = objectives("compiled", 0.0)  # any run loads it before its workers fork
+    assert loaded
+    in_python, python = objectives("python", float("inf"))
+    assert not in_python
+    np.testing.assert_array_equal(compiled, python)

@@ -32,7 +32,7 @@ import numpy as np
 import simgap
 
 from . import runtime as fmu_runtime
-from .steploop import CHUNK_SECONDS, COMPILE_AFTER_SECONDS
+from .steploop import CHUNK_SECONDS, COMPILE_AFTER_SECONDS, load
 from .steploop import _ProcessState as _LoopState  # the same per-process state as the FMI 2.0 loop
 
 FLOAT64 = "Float64"
@@ -399,6 +399,17 @@ def _compiled_loop():
                 _state.failed = True
                 warnings.warn(f"simgap fmu: compiled FMI 3.0 step loop unavailable, staying with Python ({exc})", stacklevel=2)
     return _state.compiled
+
+
+def load_now():
+    """The compiled FMI 3.0 loop, loaded in this process now (processes forked later inherit it)."""
+
+    def build():
+        from . import fmi3_steploop_compiled
+
+        return fmi3_steploop_compiled.loop
+
+    return load(_state, build)
 
 
 def typed_values(references: Mapping, values: Mapping[str, float]) -> list[tuple[int, str, float]]:

@@ -180,6 +180,16 @@ class FMUSimulator(simgap.Simulator):
     def close(self) -> None:
         fmu_runtime.discard(self._digest)
 
+    def before_fork(self, cases, runs: int) -> None:
+        """Load the compiled step loop here when the run's co-simulation steps would cost the
+        Python loop more than loading it (steploop.worth_loading_before_fork): the forked
+        workers then start with it instead of each compiling its own after a second in Python."""
+        if self._fmi_type != "CoSimulation":
+            return  # model exchange steps in fmpy's solver loop
+        steps = runs * sum(max(1, math.ceil((float(c.stop) - float(c.start)) / self._step_size(c) - 1e-9)) for c in cases)
+        if steploop.worth_loading_before_fork(steps):
+            (fmi3 if self._fmi3 else steploop).load_now()
+
     def export(self, values: Mapping[str, float], folder: Path) -> simgap.ModelExport:
         """A copy of the FMU whose modelDescription.xml start values carry ``values`` (where the
         FMI standard allows it), and the options that fix them on the original FMU."""

@@ -5,7 +5,9 @@ preallocated arrays. Through ctypes that costs about 2-4 µs of Python per step;
 calls the FMU's functions by address costs about 0.05 µs, but compiling it takes about a second
 per process. So a process starts with the Python loop and compiles once it has spent
 ``COMPILE_AFTER_SECONDS`` in it: a short calibration never pays for the compiler, a long one
-pays at most that much extra.
+pays at most that much extra. A local run whose budget says it will step long enough in Python
+loads the loop once before it forks its workers, which inherit it (``load_now``, called from
+``FMUSimulator.before_fork``; see ``worth_loading_before_fork``).
 
 The loop runs in chunks sized to about ``CHUNK_SECONDS``; the deadline is checked after every
 step in Python and after every chunk when compiled.
@@ -152,14 +154,40 @@ def _timeout(prepared, steps_done: int) -> None:
 def _compiled_loop():
     if _state.compiled is not None or _state.failed or _state.python_seconds < COMPILE_AFTER_SECONDS:
         return _state.compiled
-    with _state.lock:
-        if _state.compiled is None and not _state.failed:
+    return load(_state, _build_compiled_loop)
+
+
+def load(state: _ProcessState, build):
+    """The compiled loop of ``state``, built by ``build()`` now if not yet (None where numba is
+    missing or fails: the Python loop still works)."""
+    with state.lock:
+        if state.compiled is None and not state.failed:
             try:
-                _state.compiled = _build_compiled_loop()
+                state.compiled = build()
             except Exception as exc:  # numba missing or unable: the Python loop still works
-                _state.failed = True
-                warnings.warn(f"simgap fmu: compiled step loop unavailable, staying with Python ({exc})", stacklevel=2)
-    return _state.compiled
+                state.failed = True
+                warnings.warn(f"simgap fmu: compiled step loop unavailable, staying with Python ({exc})", stacklevel=3)
+    return state.compiled
+
+
+# Loading the compiled loop costs a process 0.5-1 s of CPU even from numba's disk cache (numba's
+# import and its CPU target's set-up, which imports numba.np and scipy.linalg); the loop then
+# saves about 2.5 µs of the Python loop's ~2.9 µs per step (quickstart: 1.06 -> 0.15 ms a
+# simulation). Each worker process compiles for itself after COMPILE_AFTER_SECONDS in Python;
+# a run that knows it will step more than this much in Python, all workers together, loads the
+# loop once in its own process before it forks them instead (plugins/fmu/simulator.before_fork).
+PYTHON_SECONDS_PER_STEP = 2.5e-6
+LOAD_BEFORE_FORK_ABOVE_SECONDS = 1.0
+
+
+def worth_loading_before_fork(steps: int) -> bool:
+    """True when ``steps`` steps in the Python loop would cost more than loading the compiled one."""
+    return steps * PYTHON_SECONDS_PER_STEP > LOAD_BEFORE_FORK_ABOVE_SECONDS
+
+
+def load_now():
+    """The compiled loop, loaded in this process now (processes forked later inherit it)."""
+    return load(_state, _build_compiled_loop)
 
 
 def _build_compiled_loop():
