@@ -166,6 +166,8 @@ def main() -> None:
     parser.add_argument("--unseen", action="store_true", help="the cases of issue 14, fixed before any was run (see unseen_cases)")
     parser.add_argument("--fresh", action="store_true", help="the third blind set of issue 14, fixed before any was run (see fresh_cases)")
     parser.add_argument("--shard", help="K/N: only every N-th case starting at the K-th (1-based), to split a set over processes")
+    parser.add_argument("--reverse", action="store_true",
+                        help="run the cases last first (a second process working towards one that runs them in order)")
     args = parser.parse_args()
     root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
     models = args.models.split(",")
@@ -177,10 +179,16 @@ def main() -> None:
     if args.shard:
         k, n = (int(x) for x in args.shard.split("/"))
         todo = todo[k - 1 :: n]
+    if args.reverse:
+        todo = todo[::-1]
     results = []
     t0 = time.perf_counter()
     for case in todo:
         folder = root / case.label.replace(":", "_").replace("(", "_").replace(")", "").replace(",", "_").replace("=", "")
+        done = folder / "case_result.json"
+        if done.is_file():  # finished by an earlier or a parallel process with --out: scored once
+            results.append(json.loads(done.read_text()))
+            continue
         try:
             r = run_case(case, folder, candidates=args.candidates, workers=args.workers)
         except Exception as exc:  # one broken case must not lose the table
@@ -195,6 +203,8 @@ def main() -> None:
             f"shrink={_pct(r['shrink'])} beyond={_pct(r.get('beyond_control'))} closed={_pct(r['closed'])} ranking={','.join(r['ranking'][:3])} {r.get('error', '')}",
             flush=True,
         )
+        folder.mkdir(parents=True, exist_ok=True)
+        done.write_text(json.dumps(r, indent=2, default=str))
     (root / "blind_results.json").write_text(json.dumps(results, indent=2, default=str))
     print()
     print(table(results))
