@@ -12,7 +12,9 @@
    Target: ≥ 3× faster than dtaidistance on the banded cases.
    dtaidistance is installed for this benchmark only (``pip install dtaidistance``); without
    it the comparison columns say so.
-2. The same kernel with paper B's 6-sample points, and a two-column target.
+2. The same kernel with paper B's 6-sample points and with a three-column target (k = 1 and 6),
+   per band cell against the 1-D kernel: thread CPU time, all variants interleaved, medians.
+   Target (issue 17): every variant within 1.5× of the 1-D kernel.
 3. numba start-up: the first DTW in a fresh process, with an empty cache (compiles) and with the
    cache filled by that run (loads). A CLI run pays one of them once per process.
 4. Every metric on the quickstart workflow's training data (P_el, 289 samples at 10 min), as a
