@@ -150,3 +150,19 @@ def test_a_run_with_the_loop_loaded_before_fork_logs_what_the_python_loop_logs(t
     in_python, python = objectives("python", float("inf"))
     assert not in_python
     np.testing.assert_array_equal(compiled, python)
+
+
+def test_simgap_run_in_process_leaves_the_garbage_collector_as_it_found_it(tmp_path):
+    """simgap run freezes its start-up heap (imports and setup) for the collector; invoked in
+    another program's process (tests, a notebook's CliRunner) it must not leave it frozen."""
+    import gc
+
+    from click.testing import CliRunner
+
+    from simgap.cli import main
+
+    assert gc.isenabled() and gc.get_freeze_count() == 0
+    result = CliRunner().invoke(main, ["run", str(_quickstart_workflow(tmp_path, 40)), "--workers", "2", "--figures", "wait"])
+    assert result.exit_code == 0, result.output
+    assert "40 evaluations (0 failed)" in result.output
+    assert gc.isenabled() and gc.get_freeze_count() == 0
