@@ -26,6 +26,8 @@ CASES = [
     (300, 48, 1, 4),
     (257, 17, 3, 4),
     (1000, 96, 6, 2),
+    (1000, 96, 6, 1),  # one column, ring too large for its window: the running sweep
+    (400, 200, 3, 1),
     # one sweep function per column count (2, 3, more), each padded past the band's last cell:
     # windows that are and are not one short of a multiple of 4 cells, matrix corners included
     *[(n, w, k, d) for n in (9, 64, 130) for w in (3, 4, 6, 7, 10)
@@ -61,7 +63,7 @@ def test_spiky_series_with_plateaus():
     n = 700
     a = np.where(rng.random(n) < 0.03, 1e4, 1.0) * rng.normal(size=n)
     b = a + np.where(rng.random(n) < 0.5, 0.0, 1e-3 * rng.normal(size=n))
-    for w, k in [(0, 6), (12, 6), (48, 2), (48, 6)]:
+    for w, k in [(0, 6), (12, 6), (48, 2), (48, 6), (120, 6)]:
         a2, b2 = a.reshape(1, -1), b.reshape(1, -1)
         assert banded_dtw(a2, b2, w, k) == pytest.approx(
             before.banded_dtw(a2, b2, w, k), rel=RELATIVE, abs=0.0
