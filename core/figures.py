@@ -112,7 +112,8 @@ def _draw_in_background(run_dir: Path, *rest) -> int:
 def _frozen_after():
     """matplotlib's import without the cyclic garbage collector, its objects frozen after: the
     collector would walk them again and again while the figures are drawn (two full
-    collections, about 0.15 s of a quickstart's figures)."""
+    collections, about 0.15 s of a quickstart's figures). Only in the background process, which
+    ends after drawing: in the caller's own process (``wait``) the freeze would outlive the call."""
     was_enabled = gc.isenabled()
     gc.disable()
     try:
@@ -140,10 +141,9 @@ def _draw_here(run_dir, frame, pareto, objectives, featured, series, identifiabi
 
     matplotlib is imported before the fork, so the child does not import it again; the report
     page is written once more after both finished, so it always shows the identifiability plot."""
-    with _frozen_after():
-        from . import identifiability
-        from .plots import write_plots  # matplotlib is slow to import; only when needed
-        from .report import write_report
+    from . import identifiability
+    from .plots import write_plots  # matplotlib is slow to import; only when needed
+    from .report import write_report
 
     child = None
     if identifiability_report is not None and sys.platform.startswith("linux"):

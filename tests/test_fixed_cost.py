@@ -166,3 +166,16 @@ def test_simgap_run_in_process_leaves_the_garbage_collector_as_it_found_it(tmp_p
     assert result.exit_code == 0, result.output
     assert "40 evaluations (0 failed)" in result.output
     assert gc.isenabled() and gc.get_freeze_count() == 0
+
+
+def test_calibrate_drawing_its_figures_in_process_freezes_nothing(tmp_path):
+    """The library's calibrate() draws the figures before it returns; the collector's freeze
+    that speeds up the background figures process must not happen in the caller's process."""
+    import gc
+
+    from simgap.calibrate import calibrate
+    from simgap.setup import prepare
+
+    run_dir = calibrate(prepare(_quickstart_workflow(tmp_path, 40)), workers=2, figures="wait")
+    assert (run_dir / "plots" / "figures.json").is_file()
+    assert gc.isenabled() and gc.get_freeze_count() == 0
