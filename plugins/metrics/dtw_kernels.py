@@ -24,18 +24,20 @@ recomputed: the last k sample costs of each diagonal wait in a ring (see _sweep_
 running update, the point cost and the minimum are one loop (one pass over the anti-diagonal),
 as are the columns of a 2- or 3-column target (one sweep function per column count).
 
-Why so few loads: a sweep is bound by its memory operations, not its arithmetic (a 5-load
-1-D cell takes ~1 cycle, 3.1 GHz Zen 3). A cell's left neighbour is the previous cell's up
-neighbour, carried in a register instead of loaded again (one vector shuffle instead of a
-load); the columns are summed in the sweep instead of through a buffer; the ring replaces the
-dropped pair's 2·d sample loads by one.
+What the sweeps' speed turned on (issue 17, measured per band cell at w = 48 against the 1-D
+kernel, ~1 cycle per cell at 3.1 GHz): the dropped sample pair's cost read from the ring instead
+of recomputed from 2·d samples (k = 6, 3 columns 4.0× → 2.5×); padded sweeps (below) whose
+vector loops no longer spill pointers to the stack (3 columns 1.9× → 1.55×, k = 6 × 3 columns
+2.5× → 2.0×); the left neighbour carried from the previous cell's up neighbour instead of
+loaded again (3–6 %). What did not: FMA contraction, dropping the max() clamp, one store fewer
+(each within the noise, ±3 %).
 
 Why ``noalias``: a sweep reads 5–10 array slices and writes one or two. Without knowing they
 do not overlap, LLVM vectorises only behind run-time overlap checks between every written and
 every read slice, which cost more than the ~50 cells of a paper-B anti-diagonal (w = 48)
 themselves: measured 2–3× on the k-sample sweep, 1.5× on the 1-D one. Every array handed to a
-sweep is a separate allocation (the working buffers, the reversed copy of ``a``, and ``b``),
-so the promise holds.
+sweep is its own allocation or a part of banded_dtw's one work allocation that no other
+argument covers (the series copies, the buffers, the ring), so the promise holds.
 """
 
 from __future__ import annotations
