@@ -369,13 +369,18 @@ def _calibrate(
     return run_dir
 
 
+heap_frozen = False
+"""Set by ``simgap run`` while it runs: it froze its start-up heap for the garbage collector
+(``gc.get_freeze_count()`` would say so too, but it walks every frozen object: ~20 ms)."""
+
+
 @contextlib.contextmanager
 def _frozen_if_frozen():
     """Where the process froze its start-up heap for the garbage collector (simgap run does),
     what is loaded meanwhile is frozen with it: a compiled step loop brings numba's typing
     tables, some hundred thousand objects every later collection in this process and in each
     forked worker would otherwise walk (0.3-0.5 s of CPU each over a 2400-evaluation run)."""
-    if not gc.get_freeze_count():
+    if not heap_frozen:
         yield
         return
     was_enabled = gc.isenabled()
