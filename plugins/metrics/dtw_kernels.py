@@ -13,8 +13,11 @@ r = (s + w) mod 2, cell q of anti-diagonal s has i = (s − r + w)/2 − q, j = 
 and its neighbours (i−1, j), (i, j−1) are cells q + r and q + r − 1 of anti-diagonal s−1 while
 (i−1, j−1) is cell q of anti-diagonal s−2. The three buffers are indexed q + 1 so that the band
 edge reads a permanent +inf in slot 0. Series ``a`` is read reversed so both series are read
-with ascending, unit-stride indices along an anti-diagonal; the inner loops work on slices,
-which LLVM vectorises far better (measured 2–3×) than the same loop on offset indices.
+with ascending, unit-stride indices along an anti-diagonal. The 1-D sweep works on slices,
+which LLVM vectorises far better (measured 2–3×) than the same loop on signed offset indices
+(numba's negative-index wraparound); the padded sweeps index with unsigned (np.uint64) offsets,
+which have no wraparound: the same vector loop, without each slice's bounds arithmetic per
+anti-diagonal (measured 5–10 % of the multi-column and k-sample sweeps at w = 48).
 
 Points of k consecutive samples (paper B's k-vectors) are never materialised: the cost of cell
 (i, j) is the sum of k sample costs along its diagonal, kept as a running sum per diagonal that
@@ -28,9 +31,9 @@ What the sweeps' speed turned on (issue 17, measured per band cell at w = 48 aga
 kernel, ~1 cycle per cell at 3.1 GHz): the dropped sample pair's cost read from the ring instead
 of recomputed from 2·d samples (k = 6, 3 columns 4.0× → 2.5×); padded sweeps (below) whose
 vector loops no longer spill pointers to the stack (3 columns 1.9× → 1.55×, k = 6 × 3 columns
-2.5× → 2.0×); the left neighbour carried from the previous cell's up neighbour instead of
-loaded again (3–6 %). What did not: FMA contraction, dropping the max() clamp, one store fewer
-(each within the noise, ±3 %).
+2.5× → 2.0×); unsigned offsets instead of slices (above); the left neighbour carried from the
+previous cell's up neighbour instead of loaded again (3–6 %). What did not: FMA contraction,
+dropping the max() clamp, one store fewer (each within the noise, ±3 %).
 
 Why ``noalias``: a sweep reads 5–10 array slices and writes one or two. Without knowing they
 do not overlap, LLVM vectorises only behind run-time overlap checks between every written and
@@ -147,44 +150,42 @@ def _sweep_cost(cur, prev1, prev2, cost, r, lo, hi):
 def _sweep_2_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, lo, hi):
     """One anti-diagonal, one-sample points of 2 columns (column c of sample x at c·n + x),
     the point cost summed in the same loop as the minimum, columns in order."""
-    cnt = _padded_count(lo, hi)
-    out = cur[lo + 1 : lo + 1 + cnt]
-    diag = prev2[lo + 1 : lo + 1 + cnt]
-    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    a0 = a_flat[x : x + cnt]
-    b0 = b_flat[y : y + cnt]
-    a1 = a_flat[x + n : x + n + cnt]
-    b1 = b_flat[y + n : y + n + cnt]
+    cnt = np.uint64(_padded_count(lo, hi))
+    slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    up_at = np.uint64(lo + r + 1)
+    a0_at = np.uint64(x)
+    b0_at = np.uint64(y)
+    a1_at = np.uint64(x + n)
+    b1_at = np.uint64(y + n)
     # a cell's left neighbour is the previous cell's up neighbour: carried, not loaded again
     left = prev1[lo + r]
     for t in range(cnt):
-        d0 = a0[t] - b0[t]
-        d1 = a1[t] - b1[t]
-        above = up[t]
-        out[t] = (d0 * d0 + d1 * d1) + min(diag[t], min(left, above))
+        d0 = a_flat[a0_at + t] - b_flat[b0_at + t]
+        d1 = a_flat[a1_at + t] - b_flat[b1_at + t]
+        above = prev1[up_at + t]
+        cur[slot + t] = (d0 * d0 + d1 * d1) + min(prev2[slot + t], min(left, above))
         left = above
 
 
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
 def _sweep_3_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, lo, hi):
     """_sweep_2_columns for 3 columns."""
-    cnt = _padded_count(lo, hi)
-    out = cur[lo + 1 : lo + 1 + cnt]
-    diag = prev2[lo + 1 : lo + 1 + cnt]
-    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    a0 = a_flat[x : x + cnt]
-    b0 = b_flat[y : y + cnt]
-    a1 = a_flat[x + n : x + n + cnt]
-    b1 = b_flat[y + n : y + n + cnt]
-    a2 = a_flat[x + 2 * n : x + 2 * n + cnt]
-    b2 = b_flat[y + 2 * n : y + 2 * n + cnt]
+    cnt = np.uint64(_padded_count(lo, hi))
+    slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    up_at = np.uint64(lo + r + 1)
+    a0_at = np.uint64(x)
+    b0_at = np.uint64(y)
+    a1_at = np.uint64(x + n)
+    b1_at = np.uint64(y + n)
+    a2_at = np.uint64(x + 2 * n)
+    b2_at = np.uint64(y + 2 * n)
     left = prev1[lo + r]
     for t in range(cnt):
-        d0 = a0[t] - b0[t]
-        d1 = a1[t] - b1[t]
-        d2 = a2[t] - b2[t]
-        above = up[t]
-        out[t] = ((d0 * d0 + d1 * d1) + d2 * d2) + min(diag[t], min(left, above))
+        d0 = a_flat[a0_at + t] - b_flat[b0_at + t]
+        d1 = a_flat[a1_at + t] - b_flat[b1_at + t]
+        d2 = a_flat[a2_at + t] - b_flat[b2_at + t]
+        above = prev1[up_at + t]
+        cur[slot + t] = ((d0 * d0 + d1 * d1) + d2 * d2) + min(prev2[slot + t], min(left, above))
         left = above
 
 
@@ -249,79 +250,73 @@ def _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_rev, b, row, xn, yn, r,
     a_rev[xn + t], b[yn + t]; its dropped sample cost is in ring[row + lo + 1 + t], which
     takes the newest one's place; the running point cost of its diagonal is in ``point_cost``.
     """
-    cnt = _padded_count(lo, hi)
-    out = cur[lo + 1 : lo + 1 + cnt]
-    diag = prev2[lo + 1 : lo + 1 + cnt]
-    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    pc = point_cost[lo + 1 : lo + 1 + cnt]
-    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
-    an = a_rev[xn : xn + cnt]
-    bn = b[yn : yn + cnt]
+    cnt = np.uint64(_padded_count(lo, hi))
+    slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    up_at = np.uint64(lo + r + 1)
+    dropped_at = np.uint64(row + lo + 1)
+    an_at = np.uint64(xn)
+    bn_at = np.uint64(yn)
     left = prev1[lo + r]
     for t in range(cnt):
-        x = an[t] - bn[t]
+        x = a_rev[an_at + t] - b[bn_at + t]
         newest = x * x
-        cost = pc[t] + (newest - dropped[t])
-        dropped[t] = newest
-        pc[t] = cost
-        above = up[t]
+        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        ring[dropped_at + t] = newest
+        point_cost[slot + t] = cost
+        above = prev1[up_at + t]
         # a running sum can end a hair below zero by rounding; a cost never is
-        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
 def _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
     """_sweep_ring_1 for 2 columns (column c of sample x at c·n + x)."""
-    cnt = _padded_count(lo, hi)
-    out = cur[lo + 1 : lo + 1 + cnt]
-    diag = prev2[lo + 1 : lo + 1 + cnt]
-    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    pc = point_cost[lo + 1 : lo + 1 + cnt]
-    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
-    a0 = a_flat[xn : xn + cnt]
-    b0 = b_flat[yn : yn + cnt]
-    a1 = a_flat[xn + n : xn + n + cnt]
-    b1 = b_flat[yn + n : yn + n + cnt]
+    cnt = np.uint64(_padded_count(lo, hi))
+    slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    up_at = np.uint64(lo + r + 1)
+    dropped_at = np.uint64(row + lo + 1)
+    a0_at = np.uint64(xn)
+    b0_at = np.uint64(yn)
+    a1_at = np.uint64(xn + n)
+    b1_at = np.uint64(yn + n)
     left = prev1[lo + r]
     for t in range(cnt):
-        d0 = a0[t] - b0[t]
-        d1 = a1[t] - b1[t]
+        d0 = a_flat[a0_at + t] - b_flat[b0_at + t]
+        d1 = a_flat[a1_at + t] - b_flat[b1_at + t]
         newest = d0 * d0 + d1 * d1
-        cost = pc[t] + (newest - dropped[t])
-        dropped[t] = newest
-        pc[t] = cost
-        above = up[t]
-        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        ring[dropped_at + t] = newest
+        point_cost[slot + t] = cost
+        above = prev1[up_at + t]
+        cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
 @njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
 def _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
     """_sweep_ring_1 for 3 columns."""
-    cnt = _padded_count(lo, hi)
-    out = cur[lo + 1 : lo + 1 + cnt]
-    diag = prev2[lo + 1 : lo + 1 + cnt]
-    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    pc = point_cost[lo + 1 : lo + 1 + cnt]
-    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
-    a0 = a_flat[xn : xn + cnt]
-    b0 = b_flat[yn : yn + cnt]
-    a1 = a_flat[xn + n : xn + n + cnt]
-    b1 = b_flat[yn + n : yn + n + cnt]
-    a2 = a_flat[xn + 2 * n : xn + 2 * n + cnt]
-    b2 = b_flat[yn + 2 * n : yn + 2 * n + cnt]
+    cnt = np.uint64(_padded_count(lo, hi))
+    slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    up_at = np.uint64(lo + r + 1)
+    dropped_at = np.uint64(row + lo + 1)
+    a0_at = np.uint64(xn)
+    b0_at = np.uint64(yn)
+    a1_at = np.uint64(xn + n)
+    b1_at = np.uint64(yn + n)
+    a2_at = np.uint64(xn + 2 * n)
+    b2_at = np.uint64(yn + 2 * n)
     left = prev1[lo + r]
     for t in range(cnt):
-        d0 = a0[t] - b0[t]
-        d1 = a1[t] - b1[t]
-        d2 = a2[t] - b2[t]
+        d0 = a_flat[a0_at + t] - b_flat[b0_at + t]
+        d1 = a_flat[a1_at + t] - b_flat[b1_at + t]
+        d2 = a_flat[a2_at + t] - b_flat[b2_at + t]
         newest = (d0 * d0 + d1 * d1) + d2 * d2
-        cost = pc[t] + (newest - dropped[t])
-        dropped[t] = newest
-        pc[t] = cost
-        above = up[t]
-        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        ring[dropped_at + t] = newest
+        point_cost[slot + t] = cost
+        above = prev1[up_at + t]
+        cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
@@ -329,21 +324,18 @@ def _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, 
 def _sweep_ring_sums(cur, prev1, prev2, point_cost, ring, newest_costs, row, r, lo, hi):
     """_sweep_ring_1 with the newest sample costs already summed over the columns in
     ``newest_costs`` (indexed like the buffers): more than 3 columns."""
-    cnt = _padded_count(lo, hi)
-    out = cur[lo + 1 : lo + 1 + cnt]
-    diag = prev2[lo + 1 : lo + 1 + cnt]
-    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    pc = point_cost[lo + 1 : lo + 1 + cnt]
-    dropped = ring[row + lo + 1 : row + lo + 1 + cnt]
-    nc = newest_costs[lo + 1 : lo + 1 + cnt]
+    cnt = np.uint64(_padded_count(lo, hi))
+    slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    up_at = np.uint64(lo + r + 1)
+    dropped_at = np.uint64(row + lo + 1)
     left = prev1[lo + r]
     for t in range(cnt):
-        newest = nc[t]
-        cost = pc[t] + (newest - dropped[t])
-        dropped[t] = newest
-        pc[t] = cost
-        above = up[t]
-        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        newest = newest_costs[slot + t]
+        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        ring[dropped_at + t] = newest
+        point_cost[slot + t] = cost
+        above = prev1[up_at + t]
+        cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
@@ -353,23 +345,21 @@ def _sweep_running(cur, prev1, prev2, point_cost, a_rev, b, xn, yn, r, lo, hi, k
     pair's cost is recomputed from a_rev[xn + k + t], b[yn − k + t]. Its two extra loads hit
     the series' few cache lines; a ring of 2k rows of w + 6 values does not fit the 32 KB L1
     cache for long (see _RING_ONE_COLUMN)."""
-    cnt = _padded_count(lo, hi)
-    out = cur[lo + 1 : lo + 1 + cnt]
-    diag = prev2[lo + 1 : lo + 1 + cnt]
-    up = prev1[lo + r + 1 : lo + r + 1 + cnt]
-    pc = point_cost[lo + 1 : lo + 1 + cnt]
-    an = a_rev[xn : xn + cnt]
-    bn = b[yn : yn + cnt]
-    ao = a_rev[xn + k : xn + k + cnt]
-    bo = b[yn - k : yn - k + cnt]
+    cnt = np.uint64(_padded_count(lo, hi))
+    slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    up_at = np.uint64(lo + r + 1)
+    an_at = np.uint64(xn)
+    bn_at = np.uint64(yn)
+    ao_at = np.uint64(xn + k)
+    bo_at = np.uint64(yn - k)
     left = prev1[lo + r]
     for t in range(cnt):
-        x = an[t] - bn[t]
-        y = ao[t] - bo[t]
-        cost = pc[t] + (x * x - y * y)
-        pc[t] = cost
-        above = up[t]
-        out[t] = max(cost, 0.0) + min(diag[t], min(left, above))
+        x = a_rev[an_at + t] - b[bn_at + t]
+        y = a_rev[ao_at + t] - b[bo_at + t]
+        cost = point_cost[slot + t] + (x * x - y * y)
+        point_cost[slot + t] = cost
+        above = prev1[up_at + t]
+        cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
