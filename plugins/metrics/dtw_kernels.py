@@ -470,6 +470,8 @@ def banded_dtw(a_t, b_t, w, k):
     m = n - k + 1
     if m <= 0:
         return 0.0
+    if k == 1 and a_t.shape[0] == 1:
+        return banded_dtw_1d(a_t[0], b_t[0], w)  # rows of C-contiguous arrays: no copies
     w = min(w, m - 1)
     if w <= 0:
         costs = np.zeros(n)
@@ -521,9 +523,7 @@ def banded_dtw(a_t, b_t, w, k):
             i0 = (s - r + w) // 2
             j0 = (s + r - w) // 2
             x, y = n - 1 - i0 + q_lo, j0 + q_lo  # samples of cell q_lo
-            if d == 1:
-                _sweep_1d(cur, prev1, prev2, a_flat, b_flat, x - q_lo, j0, r, q_lo, q_hi)
-            elif d == 2:
+            if d == 2:
                 _sweep_2_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, q_lo, q_hi)
             elif d == 3:
                 _sweep_3_columns(cur, prev1, prev2, a_flat, b_flat, x, y, n, r, q_lo, q_hi)
