@@ -179,3 +179,28 @@ def test_calibrate_drawing_its_figures_in_process_freezes_nothing(tmp_path):
     run_dir = calibrate(prepare(_quickstart_workflow(tmp_path, 40)), workers=2, figures="wait")
     assert (run_dir / "plots" / "figures.json").is_file()
     assert gc.isenabled() and gc.get_freeze_count() == 0
+
+
+def test_fmi3_co_simulation_loads_its_own_compiled_loop_before_fork(tmp_path, monkeypatch):
+    import shutil
+
+    import pytest
+
+    if shutil.which("gcc") is None:
+        pytest.skip("gcc is needed to build the FMU")
+    pytest.importorskip("numba")
+    import simgap
+    from simgap.plugins.fmu import FMUSimulator, fmi3, steploop
+    from tests.conftest import REPO
+
+    context = simgap.PluginContext(base_dir=REPO, cache_dir=tmp_path, source="workflow.yaml")
+    source = REPO / "examples" / "models" / "quickstart_zone_fmi3"
+    sim = FMUSimulator(FMUSimulator.Options(source=str(source), step_size=600.0), context)
+    case = simgap.SimulationCase(key="day", reference_time=None, start=0.0, stop=86400.0, input_time=None,
+                                 inputs={}, output_time=None, outputs=("T_zone",))  # 144 steps; only the span counts here
+    monkeypatch.setattr(fmi3, "_state", fmi3._LoopState())
+    monkeypatch.setattr(steploop, "_state", steploop._ProcessState())
+    sim.before_fork([case], 1000)  # 144 000 steps: about 0.36 s in Python
+    assert not fmi3.compiled_loop_in_use()
+    sim.before_fork([case], 10_000)  # about 3.6 s
+    assert fmi3.compiled_loop_in_use() and not steploop.compiled_loop_in_use()
