@@ -132,15 +132,15 @@ def _sweep_1d(cur, prev1, prev2, a_rev, b, ia, jb, r, lo, hi):
         out[t] = d * d + min(diag[t], min(left[t], up[t]))
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(3)})", **_SWEEP)
-def _sweep_cost(cur, prev1, prev2, cost, r, lo, hi):
-    """One anti-diagonal with the point costs already in ``cost`` (indexed like the buffers)."""
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(4)})", **_SWEEP)
+def _sweep_cost(cur, prev1, prev2, costs, cost_row, r, lo, hi):
+    """One anti-diagonal with the point costs already in costs[cost_row + 1 + q]."""
     n = hi - lo + 1
     out = cur[lo + 1 : lo + 1 + n]
     diag = prev2[lo + 1 : lo + 1 + n]
     left = prev1[lo + r : lo + r + n]
     up = prev1[lo + r + 1 : lo + r + 1 + n]
-    c = cost[lo + 1 : lo + 1 + n]
+    c = costs[cost_row + lo + 1 : cost_row + lo + 1 + n]
     for t in range(n):
         # a running sum can end a hair below zero by rounding; a cost never is
         out[t] = max(c[t], 0.0) + min(diag[t], min(left[t], up[t]))
@@ -244,14 +244,16 @@ def _sweep_last_column(cur, prev1, prev2, a_flat, b_flat, x, y, r, lo, hi):
 # value subtracted is exactly the one added k steps before.
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
-def _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_rev, b, row, xn, yn, r, lo, hi):
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
+def _sweep_ring_1(cur, prev1, prev2, point_costs, ring, a_rev, b, pc_row, row, xn, yn, r, lo, hi):
     """One anti-diagonal of univariate k-sample points: cell lo + t's newest sample pair is
     a_rev[xn + t], b[yn + t]; its dropped sample cost is in ring[row + lo + 1 + t], which
-    takes the newest one's place; the running point cost of its diagonal is in ``point_cost``.
+    takes the newest one's place; the running point cost of its diagonal is in
+    point_costs[pc_row + lo + 1 + t] (both parities' point costs in one array, see banded_dtw).
     """
     cnt = np.uint64(_padded_count(lo, hi))
     slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    pc_at = np.uint64(pc_row + lo + 1)
     up_at = np.uint64(lo + r + 1)
     dropped_at = np.uint64(row + lo + 1)
     an_at = np.uint64(xn)
@@ -260,20 +262,21 @@ def _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_rev, b, row, xn, yn, r,
     for t in range(cnt):
         x = a_rev[an_at + t] - b[bn_at + t]
         newest = x * x
-        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        cost = point_costs[pc_at + t] + (newest - ring[dropped_at + t])
         ring[dropped_at + t] = newest
-        point_cost[slot + t] = cost
+        point_costs[pc_at + t] = cost
         above = prev1[up_at + t]
         # a running sum can end a hair below zero by rounding; a cost never is
         cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
-def _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(8)})", **_SWEEP)
+def _sweep_ring_2(cur, prev1, prev2, point_costs, ring, a_flat, b_flat, pc_row, row, xn, yn, n, r, lo, hi):
     """_sweep_ring_1 for 2 columns (column c of sample x at c·n + x)."""
     cnt = np.uint64(_padded_count(lo, hi))
     slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    pc_at = np.uint64(pc_row + lo + 1)
     up_at = np.uint64(lo + r + 1)
     dropped_at = np.uint64(row + lo + 1)
     a0_at = np.uint64(xn)
@@ -285,19 +288,20 @@ def _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, 
         d0 = a_flat[a0_at + t] - b_flat[b0_at + t]
         d1 = a_flat[a1_at + t] - b_flat[b1_at + t]
         newest = d0 * d0 + d1 * d1
-        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        cost = point_costs[pc_at + t] + (newest - ring[dropped_at + t])
         ring[dropped_at + t] = newest
-        point_cost[slot + t] = cost
+        point_costs[pc_at + t] = cost
         above = prev1[up_at + t]
         cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
-def _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi):
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(8)})", **_SWEEP)
+def _sweep_ring_3(cur, prev1, prev2, point_costs, ring, a_flat, b_flat, pc_row, row, xn, yn, n, r, lo, hi):
     """_sweep_ring_1 for 3 columns."""
     cnt = np.uint64(_padded_count(lo, hi))
     slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    pc_at = np.uint64(pc_row + lo + 1)
     up_at = np.uint64(lo + r + 1)
     dropped_at = np.uint64(row + lo + 1)
     a0_at = np.uint64(xn)
@@ -312,41 +316,43 @@ def _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, 
         d1 = a_flat[a1_at + t] - b_flat[b1_at + t]
         d2 = a_flat[a2_at + t] - b_flat[b2_at + t]
         newest = (d0 * d0 + d1 * d1) + d2 * d2
-        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        cost = point_costs[pc_at + t] + (newest - ring[dropped_at + t])
         ring[dropped_at + t] = newest
-        point_cost[slot + t] = cost
+        point_costs[pc_at + t] = cost
         above = prev1[up_at + t]
         cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(4)})", **_SWEEP)
-def _sweep_ring_sums(cur, prev1, prev2, point_cost, ring, newest_costs, row, r, lo, hi):
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(5)})", **_SWEEP)
+def _sweep_ring_sums(cur, prev1, prev2, point_costs, ring, newest_costs, pc_row, row, r, lo, hi):
     """_sweep_ring_1 with the newest sample costs already summed over the columns in
     ``newest_costs`` (indexed like the buffers): more than 3 columns."""
     cnt = np.uint64(_padded_count(lo, hi))
     slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    pc_at = np.uint64(pc_row + lo + 1)
     up_at = np.uint64(lo + r + 1)
     dropped_at = np.uint64(row + lo + 1)
     left = prev1[lo + r]
     for t in range(cnt):
         newest = newest_costs[slot + t]
-        cost = point_cost[slot + t] + (newest - ring[dropped_at + t])
+        cost = point_costs[pc_at + t] + (newest - ring[dropped_at + t])
         ring[dropped_at + t] = newest
-        point_cost[slot + t] = cost
+        point_costs[pc_at + t] = cost
         above = prev1[up_at + t]
         cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", **_SWEEP)
-def _sweep_running(cur, prev1, prev2, point_cost, a_rev, b, xn, yn, r, lo, hi, k):
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_VEC}, {_INTS(7)})", **_SWEEP)
+def _sweep_running(cur, prev1, prev2, point_costs, a_rev, b, pc_row, xn, yn, r, lo, hi, k):
     """_sweep_ring_1 without a ring, for one column and a wide window: the dropped sample
     pair's cost is recomputed from a_rev[xn + k + t], b[yn − k + t]. Its two extra loads hit
     the series' few cache lines; a ring of 2k rows of w + 6 values does not fit the 32 KB L1
     cache for long (see _RING_ONE_COLUMN)."""
     cnt = np.uint64(_padded_count(lo, hi))
     slot = np.uint64(lo + 1)  # buffer slot of cell lo
+    pc_at = np.uint64(pc_row + lo + 1)
     up_at = np.uint64(lo + r + 1)
     an_at = np.uint64(xn)
     bn_at = np.uint64(yn)
@@ -356,20 +362,20 @@ def _sweep_running(cur, prev1, prev2, point_cost, a_rev, b, xn, yn, r, lo, hi, k
     for t in range(cnt):
         x = a_rev[an_at + t] - b[bn_at + t]
         y = a_rev[ao_at + t] - b[bo_at + t]
-        cost = point_cost[slot + t] + (x * x - y * y)
-        point_cost[slot + t] = cost
+        cost = point_costs[pc_at + t] + (x * x - y * y)
+        point_costs[pc_at + t] = cost
         above = prev1[up_at + t]
         cur[slot + t] = max(cost, 0.0) + min(prev2[slot + t], min(left, above))
         left = above
 
 
-@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_INTS(5)})", cache=True)
-def _fresh_point_costs(point_cost, a_rev, b, xa, jb, k, lo, hi):
+@njit(f"void({_VEC}, {_VEC}, {_VEC}, {_INTS(6)})", cache=True)
+def _fresh_point_costs(point_costs, a_rev, b, pc_row, xa, jb, k, lo, hi):
     """One column's point costs of cells lo..hi summed afresh from their samples (the
     ring-less counterpart of _refresh_point_costs); cell lo's first sample pair is a_rev[xa],
     b[jb]."""
     cnt = hi - lo + 1
-    pc = point_cost[lo + 1 : lo + 1 + cnt]
+    pc = point_costs[pc_row + lo + 1 : pc_row + lo + 1 + cnt]
     pc[:] = 0.0
     for lag in range(k):
         av = a_rev[xa - lag : xa - lag + cnt]
@@ -379,8 +385,8 @@ def _fresh_point_costs(point_cost, a_rev, b, xa, jb, k, lo, hi):
             pc[t] += d * d
 
 
-@njit(f"void({_VEC}, {_VEC}, {_MAT}, {_MAT}, {_INTS(6)})", cache=True)
-def _start_diagonal(point_cost, ring, a_rev_t, b_t, xa, jb, q, s, k, size):
+@njit(f"void({_VEC}, {_VEC}, {_MAT}, {_MAT}, {_INTS(7)})", cache=True)
+def _start_diagonal(point_costs, ring, a_rev_t, b_t, pc_row, xa, jb, q, s, k, size):
     """Cell q of anti-diagonal s starts its diagonal (a matrix edge): its point cost, its k
     sample pairs a_rev index xa − lag, b index jb + lag, from scratch. Sample lag goes in the
     ring row it would have had as the newest sample of a cell lag − k + 1 steps back on the
@@ -395,16 +401,16 @@ def _start_diagonal(point_cost, ring, a_rev_t, b_t, xa, jb, q, s, k, size):
         if ring.shape[0] > 0:  # no ring: _sweep_running
             ring[((s - 2 * (k - 1 - lag)) % span) * size + q + 1] = cost
         total += cost
-    point_cost[q + 1] = total
+    point_costs[pc_row + q + 1] = total
 
 
-@njit(f"void({_VEC}, {_VEC}, {_INTS(5)})", cache=True)
-def _refresh_point_costs(point_cost, ring, s, k, size, lo, hi):
+@njit(f"void({_VEC}, {_VEC}, {_INTS(6)})", cache=True)
+def _refresh_point_costs(point_costs, ring, pc_row, s, k, size, lo, hi):
     """The point costs of anti-diagonal s's cells lo..hi summed afresh from the k sample costs
     in the ring (oldest first, as _start_diagonal sums them), so rounding cannot build up."""
     span = 2 * k
     cnt = hi - lo + 1
-    pc = point_cost[lo + 1 : lo + 1 + cnt]
+    pc = point_costs[pc_row + lo + 1 : pc_row + lo + 1 + cnt]
     pc[:] = 0.0
     for lag in range(k):
         row = ((s - 2 * (k - 1 - lag)) % span) * size
@@ -539,17 +545,16 @@ def banded_dtw(a_t, b_t, w, k):
         return prev1[q0 + 1]
 
     # Running point costs per diagonal: anti-diagonals of one parity share the q numbering, so
-    # those of anti-diagonal s−2 are in the buffer swept at s (two buffers, swapped like the
-    # others: no array views made inside the loop). The ring rows are offsets into one array.
-    point_cost = scratch[3 * size : 4 * size]
-    point_cost_other = scratch[4 * size : 5 * size]
+    # those of anti-diagonal s−2 are in the row swept at s, row s mod 2 of one array, passed
+    # with its offset (swapping two array variables each anti-diagonal cost numba reference
+    # counting, measured 6 % at k = 6, w = 48). The ring rows are offsets into one array too.
+    point_costs = scratch[3 * size : 5 * size]
     newest = scratch[5 * size : 6 * size]
     ring = scratch[6 * size :]
     ring_end = ring_rows * size
 
-    _start_diagonal(point_cost, ring, a_rev_t, b_t, n - 1, 0, q0, 0, k, size)
-    prev1[q0 + 1] = point_cost[q0 + 1]
-    point_cost, point_cost_other = point_cost_other, point_cost
+    _start_diagonal(point_costs, ring, a_rev_t, b_t, 0, n - 1, 0, q0, 0, k, size)
+    prev1[q0 + 1] = point_costs[q0 + 1]
     row = 0
     for s in range(1, 2 * (m - 1) + 1):
         r = (s + w) & 1
@@ -557,6 +562,7 @@ def banded_dtw(a_t, b_t, w, k):
         i0 = (s - r + w) // 2
         j0 = (s + r - w) // 2
         ia = n - 1 - i0  # a_rev index of sample a[i0 − q] is ia + q
+        pc_row = (s & 1) * size
         row += size
         if row >= ring_end:
             row = 0
@@ -564,8 +570,8 @@ def banded_dtw(a_t, b_t, w, k):
         # A cell on the top or left matrix edge starts its diagonal: no running sum yet. The
         # top one is done after the padded sweep, which runs over it.
         if j0 + lo == 0:
-            _start_diagonal(point_cost, ring, a_rev_t, b_t, ia + lo, 0, lo, s, k, size)
-            _sweep_cost(cur, prev1, prev2, point_cost, r, lo, lo)
+            _start_diagonal(point_costs, ring, a_rev_t, b_t, pc_row, ia + lo, 0, lo, s, k, size)
+            _sweep_cost(cur, prev1, prev2, point_costs, pc_row, r, lo, lo)
             lo += 1
         top_edge = hi >= lo and i0 - hi == 0
         if top_edge:
@@ -574,31 +580,30 @@ def banded_dtw(a_t, b_t, w, k):
             # point (i, j) = point (i−1, j−1) + samples (i+k−1, j+k−1) − samples (i−1, j−1)
             xn, yn = ia + lo - k + 1, j0 + lo + k - 1
             if d == 1 and ring_rows == 0:
-                _sweep_running(cur, prev1, prev2, point_cost, a_flat, b_flat, xn, yn, r, lo, hi, k)
+                _sweep_running(cur, prev1, prev2, point_costs, a_flat, b_flat, pc_row, xn, yn, r, lo, hi, k)
             elif d == 1:
-                _sweep_ring_1(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, r, lo, hi)
+                _sweep_ring_1(cur, prev1, prev2, point_costs, ring, a_flat, b_flat, pc_row, row, xn, yn, r, lo, hi)
             elif d == 2:
-                _sweep_ring_2(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi)
+                _sweep_ring_2(cur, prev1, prev2, point_costs, ring, a_flat, b_flat, pc_row, row, xn, yn, n, r, lo, hi)
             elif d == 3:
-                _sweep_ring_3(cur, prev1, prev2, point_cost, ring, a_flat, b_flat, row, xn, yn, n, r, lo, hi)
+                _sweep_ring_3(cur, prev1, prev2, point_costs, ring, a_flat, b_flat, pc_row, row, xn, yn, n, r, lo, hi)
             else:
                 _column_costs(newest, a_flat, b_flat, xn, yn, lo, hi)
                 for c in range(n, d * n, n):
                     _add_column_costs(newest, a_flat, b_flat, c + xn, c + yn, lo, hi)
-                _sweep_ring_sums(cur, prev1, prev2, point_cost, ring, newest, row, r, lo, hi)
+                _sweep_ring_sums(cur, prev1, prev2, point_costs, ring, newest, pc_row, row, r, lo, hi)
         if top_edge:
             # Cells past the sweep's hi were written with what the padded sweep read there
             # (the point costs and ring slots of diagonals not yet or no longer in the matrix,
             # started afresh when they enter it); this one enters here.
-            _start_diagonal(point_cost, ring, a_rev_t, b_t, n - 1, j0 + q_hi, q_hi, s, k, size)
-            _sweep_cost(cur, prev1, prev2, point_cost, r, q_hi, q_hi)
+            _start_diagonal(point_costs, ring, a_rev_t, b_t, pc_row, n - 1, j0 + q_hi, q_hi, s, k, size)
+            _sweep_cost(cur, prev1, prev2, point_costs, pc_row, r, q_hi, q_hi)
         _clear_outside(cur, q_lo, q_hi, w)
         if s % _REFRESH == 0 and ring_rows == 0:
-            _fresh_point_costs(point_cost, a_flat, b_flat, ia + q_lo, j0 + q_lo, k, q_lo, q_hi)
+            _fresh_point_costs(point_costs, a_flat, b_flat, pc_row, ia + q_lo, j0 + q_lo, k, q_lo, q_hi)
         elif s % _REFRESH == 0:
-            _refresh_point_costs(point_cost, ring, s, k, size, q_lo, q_hi)
+            _refresh_point_costs(point_costs, ring, pc_row, s, k, size, q_lo, q_hi)
         prev2, prev1, cur = prev1, cur, prev2
-        point_cost, point_cost_other = point_cost_other, point_cost
 
     # The last anti-diagonal (now prev1) holds only cell (m−1, m−1), at q = w // 2.
     return prev1[q0 + 1]
