@@ -111,7 +111,7 @@ _PAD = 3
 
 # One column uses the ring (k > 1) while its 2k rows are at most this many float64 (8 KB, a
 # quarter of the L1 data cache): 2·6 rows up to w = 79. Wider, _sweep_running. Measured at
-# k = 6: ring 6 % faster at w = 48, even at w = 100, 6–20 % slower at w = 200–12 960.
+# k = 6: ring 5 % faster at w = 48, 5 % slower at w = 100, 10–20 % slower at w = 200–12 960.
 _RING_ONE_COLUMN = 1024
 
 
