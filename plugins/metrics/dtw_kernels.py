@@ -31,10 +31,11 @@ What the sweeps' speed turned on (issue 17, measured per band cell at w = 48 aga
 kernel, ~1 cycle per cell at 3.1 GHz): the dropped sample pair's cost read from the ring instead
 of recomputed from 2·d samples (k = 6, 3 columns 4.0× → 2.5×); padded sweeps (below) whose
 vector loops no longer spill pointers to the stack (3 columns 1.9× → 1.55×, k = 6 × 3 columns
-2.5× → 2.0×); unsigned offsets instead of slices (above); buffers aligned to cache lines (see
-banded_dtw); the left neighbour carried from the previous cell's up neighbour instead of
-loaded again (3–6 %). What did not: FMA contraction,
-dropping the max() clamp, one store fewer (each within the noise, ±3 %).
+2.5× → 2.0×); unsigned offsets instead of slices (above); no array variables swapped per
+anti-diagonal beyond the three buffers; buffers aligned to cache lines (see banded_dtw); the
+left neighbour carried from the previous cell's up neighbour instead of loaded again (3–6 %).
+What did not: FMA contraction, dropping the max() clamp, one store fewer, series loads aligned
+to 32 bytes, the three buffers as rows of one array (each within the noise, ±3 %, or worse).
 
 Why ``noalias``: a sweep reads 5–10 array slices and writes one or two. Without knowing they
 do not overlap, LLVM vectorises only behind run-time overlap checks between every written and
