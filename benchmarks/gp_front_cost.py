@@ -42,7 +42,9 @@ def objectives(X: np.ndarray, n_obj: int) -> np.ndarray:
     return F
 
 
-def drive(n_var: int, n_obj: int, batch: int, up_to: int, seed: int = 1) -> list[tuple[int, float]]:
+def drive(n_var: int, n_obj: int, batch: int, up_to: int, seed: int = 1, every: int = 0) -> list[tuple[int, float, int]]:
+    """Ask/tell up to ``up_to`` points; (logged points, CPU of the ask, points asked) per batch,
+    printed as they come every ``every`` logged points (a long study shows what it has)."""
     gp_front = get_registry().get("optimiser", "gp_front")
     problem = simgap.Problem(n_var=n_var, n_obj=n_obj, variable_names=tuple(f"x{i}" for i in range(n_var)),
                              objective_names=tuple(f"f{i}" for i in range(n_obj)))
@@ -52,6 +54,8 @@ def drive(n_var: int, n_obj: int, batch: int, up_to: int, seed: int = 1) -> list
         logged = opt._asked  # points told so far: what this ask fits on
         X = opt.ask()
         costs.append((logged, opt.last_ask_cpu_seconds, len(X)))
+        if every and logged and logged % every < len(X):
+            print(f"{logged:8d} {opt.last_ask_cpu_seconds:16.2f} {opt.last_ask_cpu_seconds / len(X):17.3f}", flush=True)
         opt.tell(X, objectives(X, n_obj), np.ones(len(X), dtype=bool))
     return costs
 
@@ -62,15 +66,13 @@ def main() -> None:
     parser.add_argument("--objectives", type=int, nargs="+", default=[2, 3])
     parser.add_argument("--batch", type=int, default=8)
     parser.add_argument("--up-to", type=int, default=520)
+    parser.add_argument("--every", type=int, default=50, help="print a batch every this many logged points")
     args = parser.parse_args()
-    print(f"simgap {simgap.__version__}, {os.cpu_count()} cores, load before {os.getloadavg()[0]:.2f}")
+    print(f"simgap {simgap.__version__}, {os.cpu_count()} cores, load before {os.getloadavg()[0]:.2f}", flush=True)
     for n_obj in args.objectives:
-        costs = drive(args.tuners, n_obj, args.batch, args.up_to)
         print(f"\n{args.tuners} tuners, {n_obj} objectives, batch {args.batch}")
-        print(f"{'logged':>8} {'CPU per batch s':>16} {'per evaluation s':>17}")
-        for logged, seconds, size in costs:
-            if logged and (logged % 100 < args.batch or logged + args.batch >= args.up_to):
-                print(f"{logged:8d} {seconds:16.2f} {seconds / size:17.3f}")
+        print(f"{'logged':>8} {'CPU per batch s':>16} {'per evaluation s':>17}", flush=True)
+        costs = drive(args.tuners, n_obj, args.batch, args.up_to, every=args.every)
         at_500 = [s / n for logged, s, n in costs if logged >= 500]
         if at_500:
             print(f"at >= 500 logged points: {max(at_500):.3f} s per evaluation "
