@@ -168,7 +168,12 @@ def main() -> None:
     parser.add_argument("--shard", help="K/N: only every N-th case starting at the K-th (1-based), to split a set over processes")
     parser.add_argument("--reverse", action="store_true",
                         help="run the cases last first (a second process working towards one that runs them in order)")
+    parser.add_argument("--table", type=Path, metavar="BLIND_RESULTS_JSON",
+                        help="only print the table of a finished run's blind_results.json")
     args = parser.parse_args()
+    if args.table:
+        print(table(json.loads(args.table.read_text())))
+        return
     root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
     models = args.models.split(",")
     todo = (combination_cases(models) if args.combinations else unseen_cases(models) if args.unseen
@@ -235,19 +240,28 @@ def table(results: list[dict]) -> str:
             f"{_pct(_median(x.get('shrink') for x in rs))} | {_pct(_median(x.get('beyond_control') for x in rs))} | "
             f"{_pct(_median(x.get('closed') for x in rs))} | {false_claims} |"
         )
-    effects = [r for r in results if r["effect"]]
+    # single effects and several withheld at once are scored apart: for the latter top-1 is "the
+    # first claim is one of them" and top-3 "all of them claimed" (set in main)
+    effects = [r for r in results if r["effect"] and "+" not in r["effect"]]
+    several = [r for r in results if r["effect"] and "+" in r["effect"]]
     nulls = [r for r in results if not r["effect"]]
     if effects and any("top1_same_physics" in r for r in effects):
         same = [r for r in effects if "top1_same_physics" in r]
-        rows.append(f"| **all** | **effects, a generic effect of the same physics counted** | {len(same)} | "
-                    f"**{sum(r['top1_same_physics'] for r in same) / len(same):.0%}** | "
-                    f"**{sum(r['top3_same_physics'] for r in same) / len(same):.0%}** | | | | – |")
+        top1 = sum(r["top1_same_physics"] for r in same)
+        top3 = sum(r["top3_same_physics"] for r in same)
+        rows.append(f"| **all** | **single effects, a generic effect of the same physics counted** | {len(same)} | "
+                    f"**{top1}/{len(same)} ({top1 / len(same):.0%})** | **{top3}/{len(same)} ({top3 / len(same):.0%})** | | | | – |")
     if effects:
+        top1, top3 = sum(r["top1"] for r in effects), sum(r["top3"] for r in effects)
         rows.append(
-            f"| **all** | **effects** | {len(effects)} | **{sum(r['top1'] for r in effects) / len(effects):.0%}** | "
-            f"**{sum(r['top3'] for r in effects) / len(effects):.0%}** | {_pct(_median(r.get('shrink') for r in effects))} | "
+            f"| **all** | **single effects** | {len(effects)} | **{top1}/{len(effects)} ({top1 / len(effects):.0%})** | "
+            f"**{top3}/{len(effects)} ({top3 / len(effects):.0%})** | {_pct(_median(r.get('shrink') for r in effects))} | "
             f"{_pct(_median(r.get('beyond_control') for r in effects))} | {_pct(_median(r.get('closed') for r in effects))} | – |"
         )
+    if several:
+        first, every = sum(r["top1"] for r in several), sum(r["top3"] for r in several)
+        rows.append(f"| **all** | **several effects withheld** (top-1: first claim withheld; top-3: all claimed) | {len(several)} | "
+                    f"**{first}/{len(several)}** | **{every}/{len(several)}** | | | | – |")
     if nulls:
         rows.append(f"| **all** | **null** | {len(nulls)} | | | | | | **{sum(bool(r['claimed']) for r in nulls)}** |")
     return "\n".join(rows)
