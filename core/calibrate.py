@@ -9,7 +9,6 @@ really asked for them), only missing ones are evaluated, and the run carries on 
 from __future__ import annotations
 
 import contextlib
-import gc
 import math
 import time
 from datetime import datetime
@@ -19,6 +18,7 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
+from . import heap
 from .config import load_workflow, parse_duration
 from .errors import SimgapError
 from .evaluation import STATUS_OK
@@ -369,28 +369,17 @@ def _calibrate(
     return run_dir
 
 
-heap_frozen = False
-"""Set by ``simgap run`` while it runs: it froze its start-up heap for the garbage collector
-(``gc.get_freeze_count()`` would say so too, but it walks every frozen object: ~20 ms)."""
-
-
 @contextlib.contextmanager
 def _frozen_if_frozen():
     """Where the process froze its start-up heap for the garbage collector (simgap run does),
     what is loaded meanwhile is frozen with it: a compiled step loop brings numba's typing
     tables, some hundred thousand objects every later collection in this process and in each
     forked worker would otherwise walk (0.3-0.5 s of CPU each over a 2400-evaluation run)."""
-    if not heap_frozen:
+    if not heap.frozen:
         yield
         return
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
+    with heap.collector_off_then_frozen():
         yield
-    finally:
-        gc.freeze()
-        if was_enabled:
-            gc.enable()
 
 
 def _pareto(frame: pd.DataFrame, store: RunStore) -> pd.DataFrame:

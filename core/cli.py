@@ -9,6 +9,7 @@ from pathlib import Path
 
 import click
 
+from . import heap
 from .errors import SimgapError
 
 
@@ -151,7 +152,7 @@ def run(workflow, workers, scheduler, out, resume_dir, figures):
         # command leaves the collector as it found it.
         if not _owns_the_process():
             gc.unfreeze()
-            _set_heap_frozen(False)
+            heap.frozen = False
     _report_run(run_dir)
     if figures == "background":
         click.echo("figures: being drawn in the background into plots/ and report.html "
@@ -169,27 +170,15 @@ def _startup_without_gc():
     whose memory then stays shared with this process instead of being copied page by page
     when a collection touches it.
     """
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
+    with heap.collector_off_then_frozen():
         yield
-    finally:
-        gc.freeze()
-        _set_heap_frozen(True)  # what the run loads for its workers is frozen with it
-        if was_enabled:
-            gc.enable()
+    heap.frozen = True  # what the run loads for its workers is frozen with it
 
 
 def _owns_the_process() -> bool:
     """True when this command is the program (the ``simgap`` script, ``python -m simgap.cli``)."""
     main_spec = getattr(sys.modules.get("__main__"), "__spec__", None)
     return (main_spec is not None and main_spec.name == __spec__.name) or Path(sys.argv[0]).name == "simgap"
-
-
-def _set_heap_frozen(frozen: bool) -> None:
-    calibrate = sys.modules.get(f"{__package__}.calibrate")  # imported in the block, with the collector off
-    if calibrate is not None:
-        calibrate.heap_frozen = frozen
 
 
 def _report_grid(grid_dir):

@@ -14,8 +14,6 @@ before (``figures="wait"``).
 
 from __future__ import annotations
 
-import contextlib
-import gc
 import json
 import os
 import resource
@@ -108,20 +106,14 @@ def _draw_in_background(run_dir: Path, *rest) -> int:
         os._exit(code)
 
 
-@contextlib.contextmanager
 def _frozen_after():
     """matplotlib's import without the cyclic garbage collector, its objects frozen after: the
     collector would walk them again and again while the figures are drawn (two full
     collections, about 0.15 s of a quickstart's figures). Only in the background process, which
     ends after drawing: in the caller's own process (``wait``) the freeze would outlive the call."""
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.freeze()
-        if was_enabled:
-            gc.enable()
+    from .heap import collector_off_then_frozen
+
+    return collector_off_then_frozen()
 
 
 def _draw_sequentially(run_dir, frame, pareto, objectives, featured, series, identifiability_report, units) -> None:
