@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .units import dimension
+
 BOUND_SHARE = 0.05
 """A knee tuner closer than this share of its range to a bound is reported."""
 VALIDATION_RATIO = 2.0
@@ -22,8 +24,6 @@ FAILURE_SHARE = 0.10
 RELATIVE_METRICS = ("cvrmse", "nmbe", "nrmse", "ashrae14")
 """Metrics that divide by the measured mean (or range): meaningless for temperatures on a scale
 with an arbitrary zero."""
-TEMPERATURE_UNITS = {"K", "degC", "°C", "C", "degF", "°F"}
-ENERGY_UNITS = {"W", "kW", "MW", "J", "kJ", "MJ", "Wh", "kWh", "MWh"}
 # ASHRAE Guideline 14 limits for hourly data: CV(RMSE) <= 30 %, |NMBE| <= 10 %
 ASHRAE14_HOURLY = (0.30, 0.10)
 ASHRAE14_MIN_HOURS = 24  # a verdict on a few hours says nothing about the calibration
@@ -102,7 +102,7 @@ def unit_of(name: str, declared: str | None) -> str | None:
 def temperature_metric_notes(target: str, unit: str | None, metric_keys: list[str]) -> list[str]:
     """Relative metrics (CV(RMSE), NMBE, ...) on a temperature: their value depends on the zero
     of the temperature scale, not on the fit."""
-    if unit not in TEMPERATURE_UNITS:
+    if dimension(unit) != "temperature":
         return []
     out = []
     for key in metric_keys:
@@ -175,7 +175,7 @@ def run_notes(prepared, summary: dict, series: dict) -> list[str]:
             if not simulated:
                 continue
             for target in entry["setup"].targets:
-                if units.get(target.name) in ENERGY_UNITS and target.name in simulated:
+                if dimension(units.get(target.name)) in ("power", "energy") and target.name in simulated:
                     notes += ashrae14_notes(target.name, kind, target.measured, simulated[target.name], target.time)
     return notes
 

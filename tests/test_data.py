@@ -9,7 +9,7 @@ import pytest
 from simgap.config import LoadedWorkflow, Workflow
 from simgap.data import input_series, load_measured, segments
 from simgap.errors import ConfigError
-from simgap.units import convert
+from simgap.units import convert, dimension
 from simgap.yamlfile import read_yaml
 
 BASE = """
@@ -107,6 +107,28 @@ def test_unit_table():
     assert convert(50.0, "%", "1") == pytest.approx(0.5)
     with pytest.raises(ValueError, match="cannot convert"):
         convert(1.0, "K", "W")
+
+
+def test_units_from_building_automation_exports():
+    # US customary units as BMS exports and equipment ratings write them, against SI values
+    # computed independently (1 Btu_IT = 1055.05585262 J, 1 ft = 0.3048 m, 1 US gal = 3.785411784 l)
+    assert convert(12_000.0, "Btu/h", "ton") == pytest.approx(1.0, rel=1e-9)
+    assert convert(1.0, "ton", "kW") == pytest.approx(12_000 * 1055.05585262 / 3600 / 1e3)
+    assert convert(36.0, "MBH", "kW") == pytest.approx(36_000 * 1055.05585262 / 3600 / 1e3)
+    assert convert(1.0, "Btu/(h ft2)", "W/m²") == pytest.approx(1055.05585262 / 3600 / 0.3048**2)
+    assert convert(100.0, "gpm", "l/s") == pytest.approx(100 * 3.785411784 / 60)
+    assert convert(1000.0, "cfm", "m3/h") == pytest.approx(1000 * 0.3048**3 * 60)
+    assert convert(1.0, "therm", "kWh") == pytest.approx(1e5 * 1055.05585262 / 3.6e6)
+    assert convert(1.0, "psi", "kPa") == pytest.approx(6.894757293168)
+    assert convert(450.0, "ppm", "%") == pytest.approx(0.045)
+    assert convert(68.0, "°F", "°C") == pytest.approx(20.0)
+    assert convert(0.8, "kWh/m2", "Wh/m2") == pytest.approx(800.0)
+    # dimensions decide which notes a target gets (temperatures: no relative metrics; power and
+    # energy: ASHRAE 14), whatever spelling the data used
+    assert [dimension(u) for u in ("°F", "kBtu/h", "therm", "W/m2", "ppm", "furlong", None)] == [
+        "temperature", "power", "energy", "power per area", "fraction", None, None]
+    with pytest.raises(ValueError, match="cannot convert"):
+        convert(1.0, "W/m2", "W")
 
 
 def test_segment_bounds_snap_to_measured_samples(tmp_path):
