@@ -23,6 +23,7 @@ from ..evaluation import STATUS_OK, EvaluationSetup, evaluate
 from ..interfaces import DiagnosisData
 from ..results import PARAM, WORKFLOW, Run, load_run
 from ..setup import Prepared, prepare
+from ..units import dimension
 from ..yamlfile import read_yaml
 
 ROLES = ("compressor", "outdoor_temperature", "humidity", "flow", "power", "fan")
@@ -281,7 +282,8 @@ def guess_units(ctx: Context) -> dict[str, str]:
     return units
 
 
-_ROLE_UNITS = {"outdoor_temperature": ("K", "degC"), "humidity": ("1", "%"), "flow": ("kg/s", "m3/s", "l/s"), "power": ("W", "kW")}
+_ROLE_DIMENSIONS = {"outdoor_temperature": ("temperature",), "humidity": ("fraction",), "flow": ("mass flow", "volume flow"), "power": ("power",)}
+"""What a role's unit may measure (simgap.units.dimension), whatever the unit's spelling."""
 _ROLE_WORDS = {
     "compressor": r"compressor|heat pump (on|status|signal|speed|modulation)",
     "outdoor_temperature": r"outdoor|outside|ambient|external air|weather",
@@ -350,15 +352,15 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
             var = variables.get(var_name)
             text = getattr(var, "description", "") or ""
             unit = getattr(var, "unit", "") or ""
-            units = _ROLE_UNITS.get(role)
-            if text and re.search(words, text, re.I) and (units is None or not unit or unit in units) and plausible(role, name):
+            dimensions = _ROLE_DIMENSIONS.get(role)
+            if text and re.search(words, text, re.I) and (dimensions is None or not unit or dimension(unit) in dimensions) and plausible(role, name):
                 roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
                 sources[role] = f"from the model's description of '{var_name}' ({text!r})"
                 break
     if "power" not in roles:
         for t in targets:
             var = variables.get(target_vars.get(t, t))
-            if getattr(var, "unit", "") in ("W", "kW") and re.search(r"^p|pow|el", t, re.I):
+            if dimension(getattr(var, "unit", None)) == "power" and re.search(r"^p|pow|el", t, re.I):
                 roles["power"] = f"sim:{t}"
                 sources["power"] = f"from the unit W of '{t}' and its name"
                 break
