@@ -279,7 +279,7 @@ def _calibrate(
     if own_executor and getattr(executor, "forks", False) and budget.evaluations is not None:
         # the simulator's once-per-process set-up, loaded once here for all the forked workers
         still_to_run = max(0, budget.evaluations - (replay.logged if replay is not None else 0))
-        with _frozen_if_frozen():
+        with heap.frozen_with_the_startup_heap():
             setup.simulator.before_fork(setup.cases, still_to_run * max(1, len(setup.classes or ())))
     with executor if own_executor else contextlib.nullcontext(executor):
         if replay is not None:
@@ -367,19 +367,6 @@ def _calibrate(
 
     figures.append((frame, pareto, store.objective_columns, featured, series, report, display_units(prepared)))
     return run_dir
-
-
-@contextlib.contextmanager
-def _frozen_if_frozen():
-    """Where the process froze its start-up heap for the garbage collector (simgap run does),
-    what is loaded meanwhile is frozen with it: a compiled step loop brings numba's typing
-    tables, some hundred thousand objects every later collection in this process and in each
-    forked worker would otherwise walk (0.3-0.5 s of CPU each over a 2400-evaluation run)."""
-    if not heap.frozen:
-        yield
-        return
-    with heap.collector_off_then_frozen():
-        yield
 
 
 def _pareto(frame: pd.DataFrame, store: RunStore) -> pd.DataFrame:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import gc
 import sys
 from pathlib import Path
 
@@ -151,8 +150,7 @@ def run(workflow, workers, scheduler, out, resume_dir, figures):
         # skips it (0.2 s of CPU). Invoked inside another program (tests, a notebook), the
         # command leaves the collector as it found it.
         if not _owns_the_process():
-            gc.unfreeze()
-            heap.frozen = False
+            heap.release()
     _report_run(run_dir)
     if figures == "background":
         click.echo("figures: being drawn in the background into plots/ and report.html "
