@@ -106,19 +106,15 @@ def _draw_in_background(run_dir: Path, *rest) -> int:
         os._exit(code)
 
 
-def _frozen_after():
-    """matplotlib's import without the cyclic garbage collector, its objects frozen after: the
-    collector would walk them again and again while the figures are drawn (two full
-    collections, about 0.15 s of a quickstart's figures). Only in the background process, which
-    ends after drawing: in the caller's own process (``wait``) the freeze would outlive the call."""
-    from .heap import collector_off_then_frozen
-
-    return collector_off_then_frozen()
-
-
 def _draw_sequentially(run_dir, frame, pareto, objectives, featured, series, identifiability_report, units) -> None:
     """Every figure one after the other (a background process has no one waiting for it)."""
-    with _frozen_after():
+    # matplotlib's import without the cyclic garbage collector, its objects frozen after: the
+    # collector would walk them again and again while the figures are drawn (two full
+    # collections, about 0.15 s of a quickstart's figures). Only here, in the background
+    # process, which ends after drawing: in a caller's own process the freeze would outlive it.
+    from .heap import collector_off_then_frozen
+
+    with collector_off_then_frozen():
         from . import identifiability
         from .plots import write_plots
 

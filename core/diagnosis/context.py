@@ -362,7 +362,7 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
             var = variables.get(target_vars.get(t, t))
             if dimension(getattr(var, "unit", None)) == "power" and re.search(r"^p|pow|el", t, re.I):
                 roles["power"] = f"sim:{t}"
-                sources["power"] = f"from the unit W of '{t}' and its name"
+                sources["power"] = f"from the unit {var.unit} of '{t}' and its name"
                 break
     if "compressor" not in roles and "power" in roles:
         # no compressor signal among the inputs: the simulated power tells when it runs
