@@ -4,6 +4,7 @@ its fit without stopping it."""
 
 from __future__ import annotations
 
+import importlib
 import os
 import re
 import signal
@@ -80,14 +81,43 @@ def test_own_cpu_cost_per_evaluation_is_logged_and_small():
     assert 0 < opt.last_ask_cpu_seconds / 8 < 0.5
 
 
-def test_gp_front_finds_the_quickstart_optimum_on_a_small_budget(tmp_path, low_noise_csv, executor):  # noqa: F811
-    path = _workflow(tmp_path, low_noise_csv, "plugin: gp_front\n  options: {batch: 8}", 128)
-    run = _run(path, executor)
-    assert len(run.evaluations) == 128
-    ok = run.evaluations[run.evaluations["status"] == "ok"]
-    best = ok.loc[ok["objective.T_zone.rmse"].idxmin()]
+def test_hyperparameters_from_the_best_points_predict_the_front_as_well_as_from_all():
+    """The kernel is fitted on the best-ranked points only and then conditioned on all: held-out
+    points near the front must be predicted about as well as by a kernel fitted on every point."""
+    rng = np.random.default_rng(7)
+    n = 13
+    spread = rng.random((200, n))  # what the initial design and exploration leave
+    near = rng.random((160, n))
+    near[:, 1:] *= 0.15  # what the search has gathered near the ZDT1 front
+    held_out = np.arange(200, 360, 4)
+    X = np.vstack([spread, near])
+    Y = np.log(_zdt1(X))
+    train = np.setdiff1d(np.arange(len(X)), held_out)
+    errors = {}
+    for label, points in (("best 150", 150), ("all", 10_000)):
+        opt = GP_FRONT(GP_FRONT.Options(hyperparameter_points=points), _problem(n), seed=1, max_evaluations=500)
+        order = np.argsort(importlib.import_module(GP_FRONT.__module__)._rank(Y[train]), kind="stable")
+        models = opt._fit(X[train], Y[train], order)
+        predicted = np.column_stack([gp.predict(X[held_out]) for gp in models])
+        errors[label] = np.sqrt(((predicted - Y[held_out]) ** 2).mean(axis=0))
+        assert len(opt._kernels) == 2
+    assert (errors["best 150"] <= 1.25 * errors["all"] + 0.02).all(), errors
+
+
+def test_gp_front_gets_near_the_quickstart_optimum_where_nsga2_is_still_far(tmp_path, low_noise_csv, executor):  # noqa: F811
+    """128 simulations: NSGA-II is three generations in (its best T_zone RMSE 0.16-0.48 K over
+    seeds 1-5), gp_front is within reach of the truth (0.04-0.14 K). One seed's best point is
+    compared, so the margins are wide: half NSGA-II's error, parameters within 35 %."""
+    best = {}
+    for optimiser in ("plugin: gp_front\n  options: {batch: 8}", "plugin: nsga2\n  options: {population: 32}"):
+        (tmp_path / optimiser[8:12]).mkdir()
+        run = _run(_workflow(tmp_path / optimiser[8:12], low_noise_csv, optimiser, 128), executor)
+        assert len(run.evaluations) == 128
+        ok = run.evaluations[run.evaluations["status"] == "ok"]
+        best[optimiser[8:12]] = ok.loc[ok["objective.T_zone.rmse"].idxmin()]
+    assert best["gp_f"]["objective.T_zone.rmse"] < 0.5 * best["nsga"]["objective.T_zone.rmse"]
     names = [c.removeprefix("param.") for c in run.evaluations.columns if c.startswith("param.")]
-    _assert_near_truth(_params(best, names), 0.10, "best T_zone")
+    _assert_near_truth(_params(best["gp_f"], names), 0.35, "best T_zone")
 
 
 @pytest.mark.slow  # about 80 s on a loaded 2-core machine: two runs and a resume through the CLI
