@@ -235,8 +235,9 @@ def same_physics(effect: str | None) -> set[str]:
     return {effect} if effect else set()
 
 
-def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2) -> dict:
-    """Write, calibrate and diagnose one case blind; score the diagnosis against the truth."""
+def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2, optimiser: str | None = None) -> dict:
+    """Write, calibrate and diagnose one case blind; score the diagnosis against the truth.
+    ``optimiser``: the recalibrations' (default: the diagnosis's own default)."""
     import time
 
     from simgap.calibrate import calibrate
@@ -249,6 +250,8 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     t1 = time.perf_counter()
     overrides = {"iterations": len(case.withheld) if len(case.withheld) > 1 else 1,
                  "recalibrate": {"candidates": candidates, "population": case.population, "generations": case.generations, "workers": workers}}
+    if optimiser:
+        overrides["recalibrate"]["optimiser"] = optimiser
     result = diagnose(run_dir, overrides=overrides, progress=None)
     t2 = time.perf_counter()
     ranking = result["ranking"]
