@@ -98,6 +98,10 @@ def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, eff
     assert f"most likely unmodelled effect: {effect}" in text
     derived = next(r for r in result["recalibration"] if r["effect"] == effect)
     assert derived["gap_shrink"] > 0.5, derived
+    # every recalibration, the control's too, searched with the same optimiser and budget
+    for recalibration in result["recalibration"]:
+        optimiser = YAML().load(Path(recalibration["workflow"]).read_text())["optimiser"]
+        assert optimiser["plugin"] == "gp_front" and optimiser["budget"] == {"evaluations": 48}, recalibration
 
 
 def _shipped(folder: Path, name: str, evaluations: int, population: int) -> Path:

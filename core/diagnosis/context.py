@@ -35,6 +35,13 @@ class Budget(BaseModel):
     """How many top-ranked effects are recalibrated (0: rank only)."""
     population: int = Field(16, ge=4)
     generations: int = Field(6, ge=1)
+    """Each recalibration (and the control) evaluates population x generations points."""
+    optimiser: str = "gp_front"
+    """Optimiser plugin of the recalibrations (the control uses the same, so no effect gains
+    from it). gp_front by default: on a budget of about a hundred evaluations over a dozen
+    tuners, NSGA-II is a few generations from random and often misses an effect's own settings
+    (a minimum run time, a post-run time) that the surrogate finds. nsga2 gets ``population``;
+    any other plugin only the budget in evaluations, population x generations."""
     workers: int | None = Field(None, ge=1)
 
 

@@ -204,11 +204,11 @@ def diagnose(
     if chosen:
         # the control: the same re-tuning without any effect, so a shrink that re-tuning alone
         # achieves is not credited to an effect
-        say(f"control recalibration without an effect ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
+        say(f"control recalibration without an effect ({_budget(ctx)})")
         none = EffectAddition(switch={}, parameters=())
         control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance))
     for cand in chosen:
-        say(f"recalibrating with {cand.name} added ({ctx.config.recalibrate.population} x {ctx.config.recalibrate.generations})")
+        say(f"recalibrating with {cand.name} added ({_budget(ctx)})")
         weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
         start = local_fit(ctx, nuisance, cand.addition, start_responses(cand))
         result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control, start=start)
@@ -258,3 +258,8 @@ def diagnose(
         "where": where,
         "timing": timing,
     }
+
+
+def _budget(ctx) -> str:
+    b = ctx.config.recalibrate
+    return f"{b.population} x {b.generations}" if b.optimiser == "nsga2" else f"{b.optimiser}, {b.population * b.generations} evaluations"

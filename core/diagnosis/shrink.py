@@ -104,12 +104,16 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
         params.append(entry)
     data["parameters"] = params
     budget = ctx.config.recalibrate
-    data["optimiser"] = {
-        "plugin": "nsga2",
-        "options": {"population": budget.population},
-        "seed": wf.model.optimiser.seed,
-        "budget": {"generations": budget.generations},
-    }
+    if budget.optimiser == "nsga2":
+        data["optimiser"] = {
+            "plugin": "nsga2",
+            "options": {"population": budget.population},
+            "seed": wf.model.optimiser.seed,
+            "budget": {"generations": budget.generations},
+        }
+    else:
+        data["optimiser"] = {"plugin": budget.optimiser, "seed": wf.model.optimiser.seed,
+                             "budget": {"evaluations": budget.population * budget.generations}}
     data["output"] = str((folder / "runs").resolve())
     data["name"] = f"{(wf.model.name or 'run')}_plus_{effect}"[:60]
     data.pop("diagnose", None)
