@@ -48,7 +48,7 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
     """Gaussian-process surrogates + NSGA-II on their confidence bounds + hypervolume-greedy batches.
 
     Pick it when one simulation costs seconds or more and the budget is a few hundred
-    simulations: it spends up to about a second of CPU per evaluation on its own fits, which
+    simulations: it spends 0.1-0.3 s of CPU per evaluation on its own fits and search, which
     a sub-second model does not repay (use nsga2 there). Failed evaluations are kept out of the
     fit; their points are not asked again. Deterministic for a seed, so resume replays it.
     """
