@@ -205,6 +205,9 @@ def main() -> None:
     parser.add_argument("--fresh", action="store_true", help="the third blind set of issue 14, fixed before any was run (see fresh_cases)")
     parser.add_argument("--fourth", action="store_true", help="the fourth blind set of issue 14, fixed before any was run (see fourth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
+    parser.add_argument("--rediagnose", action="store_true",
+                        help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
+                             "names them; each is moved to case_result.before.json) instead of calibrating anew: a paired comparison")
     parser.add_argument("--shard", help="K/N: only every N-th case starting at the K-th (1-based), to split a set over processes")
     parser.add_argument("--reverse", action="store_true",
                         help="run the cases last first (a second process working towards one that runs them in order)")
@@ -231,11 +234,22 @@ def main() -> None:
     for case in todo:
         folder = root / case.label.replace(":", "_").replace("(", "_").replace(")", "").replace(",", "_").replace("=", "")
         done = folder / "case_result.json"
-        if done.is_file():  # finished by an earlier or a parallel process with --out: scored once
+        reuse = None
+        if args.rediagnose:
+            before = folder / "case_result.before.json"
+            if done.is_file() and not before.is_file():
+                done.rename(before)  # claimed by this process (a parallel one sees it gone)
+            elif done.is_file():  # diagnosed again already
+                results.append(json.loads(done.read_text()))
+                continue
+            else:  # another process has it, or no earlier run: leave it
+                continue
+            reuse = Path(json.loads(before.read_text())["report"]).parents[1]
+        elif done.is_file():  # finished by an earlier or a parallel process with --out: scored once
             results.append(json.loads(done.read_text()))
             continue
         try:
-            r = run_case(case, folder, candidates=args.candidates, workers=args.workers, optimiser=args.recalibrate_optimiser)
+            r = run_case(case, folder, candidates=args.candidates, workers=args.workers, optimiser=args.recalibrate_optimiser, reuse=reuse)
         except Exception as exc:  # one broken case must not lose the table
             r = {"case": case.label, "model": case.model, "effect": case.effect, "error": f"{type(exc).__name__}: {exc}",
                  "top1": False, "top3": False, "shrink": None, "closed": None, "claimed": [], "ranking": []}

@@ -235,9 +235,12 @@ def same_physics(effect: str | None) -> set[str]:
     return {effect} if effect else set()
 
 
-def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2, optimiser: str | None = None) -> dict:
+def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2, optimiser: str | None = None,
+             reuse: Path | None = None) -> dict:
     """Write, calibrate and diagnose one case blind; score the diagnosis against the truth.
-    ``optimiser``: the recalibrations' (default: the diagnosis's own default)."""
+    ``optimiser``: the recalibrations' (default: the diagnosis's own default). ``reuse``: the
+    base calibration of an earlier run of this case, diagnosed again (into ``diagnosis_again``)
+    instead of writing and calibrating the case anew — a paired comparison of two diagnoses."""
     import time
 
     from simgap.calibrate import calibrate
@@ -245,14 +248,17 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     from simgap.diagnosis import diagnose
 
     t0 = time.perf_counter()
-    workflow = write_case(case, folder)
-    run_dir = calibrate(prepare(workflow), workers=workers)
+    if reuse is not None:
+        workflow, run_dir = Path(reuse).parents[1] / "workflow.yaml", reuse
+    else:
+        workflow = write_case(case, folder)
+        run_dir = calibrate(prepare(workflow), workers=workers)
     t1 = time.perf_counter()
     overrides = {"iterations": len(case.withheld) if len(case.withheld) > 1 else 1,
                  "recalibrate": {"candidates": candidates, "population": case.population, "generations": case.generations, "workers": workers}}
     if optimiser:
         overrides["recalibrate"]["optimiser"] = optimiser
-    result = diagnose(run_dir, overrides=overrides, progress=None)
+    result = diagnose(run_dir, overrides=overrides, progress=None, output=Path(run_dir) / "diagnosis_again" if reuse is not None else None)
     t2 = time.perf_counter()
     ranking = result["ranking"]
     claimed = result["claimed"]
