@@ -15,7 +15,7 @@ import click
 @click.option("--candidates", type=click.IntRange(min=0), help="how many top effects to recalibrate with (0: rank only)")
 @click.option("--generations", type=click.IntRange(min=1), help="generations of each recalibration")
 @click.option("--population", type=click.IntRange(min=4), help="population of each recalibration")
-@click.option("--optimiser", help="optimiser plugin of the recalibrations (default nsga2)")
+@click.option("--optimiser", help="optimiser plugin of the recalibrations (default gp_front; nsga2 takes --population)")
 @click.option("--workers", type=click.IntRange(min=1), help="local workers for the recalibrations")
 @click.option("--out", type=click.Path(path_type=Path), help="report folder (default: RUN_DIR/diagnosis)")
 def diagnose_command(run_dir, solution, workflow, effects, candidates, generations, population, optimiser, workers, out):

@@ -118,9 +118,9 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
         points (``order``: front rank first), from two starts: the default kernel and the last
         batch's kernel, and the likelier is kept. The GP then conditions on every point with those
         hyperparameters. An L-BFGS fit costs about n^2 per step and takes tens of steps; one
-        conditioning costs one n^3/3 factorisation. On 400 points this is 4-5 times less CPU than
-        fitting on all of them, with the same kernel where the front is (tests/test_surrogate.py
-        compares the predictions). A warm start alone is often left in a worse optimum as the data
+        conditioning costs one n^3/3 factorisation. Past 400 points a batch costs about a quarter
+        of the CPU it took with the fit on every point (benchmarks/gp_front_cost.py), and the
+        predictions near the front are as good (tests/test_surrogate.py compares them). A warm start alone is often left in a worse optimum as the data
         grow, so the default start is always tried too. y is scaled by all points' mean and
         spread, so both fits speak the same units.
         """
