@@ -8,7 +8,8 @@ already stored there is read instead of run again: a long study (the air-source 
 on 2 cores) can be stopped and continued, and its table printed again without simulating.
 ``--runs nsga2=RUN_DIR gp_front=RUN_DIR ...`` scores finished run folders instead (for a model too
 slow to run several seeds here: the EnergyPlus bungalow's shipped NSGA-II and gp_front workflows);
-the budgets are then the runs' own evaluation counts.
+the budgets are then the runs' own evaluation counts, and each optimiser's median is over its own
+runs (an optimiser may have more runs than the other).
 
 Real runs (real FMU through fmpy, dask workers) of the shipped workflow with only the optimiser
 block changed. Hypervolume (moocore) of log10 objectives, normalised by the best and worst
@@ -91,7 +92,6 @@ def main(argv=None) -> None:
             if name not in runs:
                 parser.error(f"--runs {item}: expected nsga2=RUN_DIR or gp_front=RUN_DIR")
             runs[name].append(objectives_in_order(simgap.load_run(folder)))
-        args.seeds = min(len(Fs) for Fs in runs.values())
         args.nsga2_budget = min(len(F) for F in runs["nsga2"])
         args.gp_budget = min(len(F) for F in runs["gp_front"])
     else:
@@ -135,7 +135,8 @@ def report(args, runs: dict, cpu: list) -> None:
     low, high = pooled.min(axis=0), pooled.max(axis=0)
     N = args.nsga2_budget
     checkpoints = sorted({c for c in (N // 40, N // 20, N // 10, N // 5, N // 2, N, args.gp_budget) if c > 0})
-    print(f"\ncase {args.case}, {args.seeds} seeds, medians of normalised hypervolume (log10 objectives, ref 1.1)")
+    counts = ", ".join(f"{name} {len(Fs)}" for name, Fs in runs.items())
+    print(f"\ncase {args.case}, runs: {counts}; medians of normalised hypervolume (log10 objectives, ref 1.1)")
     print("| simulations | " + " | ".join(map(str, checkpoints)) + " |\n" + "|---" * (len(checkpoints) + 1) + "|")
     medians = {}
     for name, Fs in runs.items():
