@@ -180,7 +180,10 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
             return rng.random((o.batch, self.problem.n_var))
         X, F = self._X[ok], self._F[ok]
         Y = np.log(np.maximum(F, 1e-12))
-        order = np.argsort(_rank(Y), kind="stable")  # the front first
+        rank = _rank(Y)  # of every successful point: the fit's order, the front and the search's start
+        on_front = rank == 0
+        front, front_X = Y[on_front], X[on_front]
+        order = np.argsort(rank, kind="stable")  # the front first
         if len(X) > o.max_fit_points:  # keep the best-ranked
             X, Y, order = X[order[: o.max_fit_points]], Y[order[: o.max_fit_points]], np.arange(o.max_fit_points)
         models = self._fit(X, Y, order)
@@ -199,8 +202,7 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
                 out["F"] = bound
 
         n = self.problem.n_var
-        front = Y[_rank(Y) == 0]
-        start = np.vstack([self._X[self._ok][_rank(np.log(np.maximum(self._F[self._ok], 1e-12))) == 0], rng.random((o.search_population, n))])[: o.search_population]
+        start = np.vstack([front_X, rng.random((o.search_population, n))])[: o.search_population]
         result = minimize(
             LowerBound(n_var=n, n_obj=Y.shape[1], xl=0.0, xu=1.0),
             NSGA2(pop_size=o.search_population, sampling=start, eliminate_duplicates=True),
