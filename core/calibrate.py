@@ -292,47 +292,51 @@ def _calibrate(
         next_id = 0
         loop_start = time.perf_counter()
         replayed = 0
-        while True:
-            # next_id, not len(store): a resumed store already holds evaluations still to be replayed
-            reason = budget.exhausted(next_id, generation)
-            if reason:
-                stop_reason = reason
-                break
-            if optimiser.done:
-                break
-            X = np.atleast_2d(optimiser.ask())
-            if len(X) == 0:
-                break
-            values = prepared.space.from_unit(X)
-            eval_ids = range(next_id, next_id + len(X))
-            logged = replay.take(generation, eval_ids, values) if replay is not None else {}
-            replayed += len(logged)
-            jobs = [(eid, p) for eid, p in zip(eval_ids, prepared.space.as_dicts(values)) if eid not in logged]
-            by_id = dict(jobs)
-            next_id += len(X)
-            if generation == 0:
-                progress.start(budget.total(len(X)), f"{len(prepared.space.names)} parameters, {len(setup.objective_columns)} objectives")
+        try:
+            while True:
+                # next_id, not len(store): a resumed store already holds evaluations still to be replayed
+                reason = budget.exhausted(next_id, generation)
+                if reason:
+                    stop_reason = reason
+                    break
+                if optimiser.done:
+                    break
+                X = np.atleast_2d(optimiser.ask())
+                if len(X) == 0:
+                    break
+                values = prepared.space.from_unit(X)
+                eval_ids = range(next_id, next_id + len(X))
+                logged = replay.take(generation, eval_ids, values) if replay is not None else {}
+                replayed += len(logged)
+                jobs = [(eid, p) for eid, p in zip(eval_ids, prepared.space.as_dicts(values)) if eid not in logged]
+                by_id = dict(jobs)
+                next_id += len(X)
+                if generation == 0:
+                    progress.start(budget.total(len(X)), f"{len(prepared.space.names)} parameters, {len(setup.objective_columns)} objectives")
 
-            def on_done(rows, _gen=generation, _by_id=by_id, _total=budget.total(len(X))):
-                store.append(rows, _gen, _by_id)
-                progress.update(generation=_gen, done=len(store), total=_total, best=store.best, failed=store.failed)
+                def on_done(rows, _gen=generation, _by_id=by_id, _total=budget.total(len(X))):
+                    store.append(rows, _gen, _by_id)
+                    progress.update(generation=_gen, done=len(store), total=_total, best=store.best, failed=store.failed)
 
-            fresh = executor.run(setup, handle, jobs, on_done=on_done, deadline=budget.deadline) if jobs else []
-            if len(fresh) < len(jobs):  # the wall-time budget ran out inside this generation
-                stop_reason = budget.exhausted(next_id, generation) or "wall-time budget used"
-                store.flush()
-                break
-            if not jobs:
-                progress.update(generation=generation, done=next_id, total=budget.total(len(X)), best=store.best, failed=store.failed)
-            answered = {**logged, **{r["eval_id"]: r for r in fresh}}
-            rows = [answered[eid] for eid in eval_ids]
-            F = np.array([r["objectives"] for r in rows], dtype=float)
-            feasible = np.array([r["status"] == STATUS_OK for r in rows])
+                fresh = executor.run(setup, handle, jobs, on_done=on_done, deadline=budget.deadline) if jobs else []
+                if len(fresh) < len(jobs):  # the wall-time budget ran out inside this generation
+                    stop_reason = budget.exhausted(next_id, generation) or "wall-time budget used"
+                    break
+                if not jobs:
+                    progress.update(generation=generation, done=next_id, total=budget.total(len(X)), best=store.best, failed=store.failed)
+                answered = {**logged, **{r["eval_id"]: r for r in fresh}}
+                rows = [answered[eid] for eid in eval_ids]
+                F = np.array([r["objectives"] for r in rows], dtype=float)
+                feasible = np.array([r["status"] == STATUS_OK for r in rows])
+                store.flush_if_due()
+                optimiser.tell(X, F, feasible)
+                generation += 1
+                if on_generation is not None:
+                    on_generation(generation)
+        except BaseException:  # Ctrl-C, a lost scheduler: the rows that came back are kept
             store.flush()
-            optimiser.tell(X, F, feasible)
-            generation += 1
-            if on_generation is not None:
-                on_generation(generation)
+            raise
+        store.flush()
         loop_wall = time.perf_counter() - loop_start
         n_workers = executor.n_workers
         progress.stop()

@@ -198,3 +198,35 @@ def test_lock_in_one_process_is_exclusive_and_released(tmp_path):
             RunFolderLock(tmp_path).acquire()
     with RunFolderLock(tmp_path) as again:
         assert again.note is None
+
+
+def test_cheap_rows_wait_past_a_generation_and_expensive_ones_do_not(tmp_path):
+    from simgap.results import PENDING_WORK_S
+
+    store = _store(tmp_path / "run")
+    store.flush()
+    _append(store, 0, 2, 0)  # 2 × 0.2 s of work
+    store.flush_if_due()
+    assert read_log(store.dir).num_rows == 0  # held: cheap to evaluate again
+    _append(store, 2, int(PENDING_WORK_S / 0.2), 1)
+    store.flush_if_due()
+    assert read_log(store.dir).column("eval_id").to_pylist() == list(range(2 + int(PENDING_WORK_S / 0.2)))
+
+
+def test_an_interrupted_run_keeps_every_row_that_came_back(tmp_path, quickstart_text, write_workflow):
+    from simgap.calibrate import calibrate
+    from simgap.setup import prepare
+
+    path = write_workflow(set_budget(quickstart_text, 400, population=20))
+    generations = []
+
+    def interrupt(generation):
+        generations.append(generation)
+        if generation == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        calibrate(prepare(path), workers=2, on_generation=interrupt)
+    (run_dir,) = (tmp_path / "runs").iterdir()
+    # three generations were evaluated and told; rows held back by flush_if_due are written on the way out
+    assert sorted(read_log(run_dir).column("eval_id").to_pylist()) == list(range(60))
