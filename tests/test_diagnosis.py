@@ -77,6 +77,24 @@ def test_improvement_over_the_control_is_tested_against_chance():
     assert both == pytest.approx(2 * improvement_p_value(better, control, {"T": 1.0}))
 
 
+def test_what_re_tuning_reproduces_of_an_effect():
+    from simgap.diagnosis.ranking import reproduced_by_tuners
+
+    rng = np.random.default_rng(3)
+    n = 500
+    power = np.clip(np.sin(np.linspace(0, 20, n)), 0, None) * 1000.0  # an on/off unit's power
+    tuners = {"tuner scaleP": 0.05 * power, "tuner tau": rng.normal(size=n)}
+    mask = np.ones(n, bool)
+    mask[:10] = False
+    share, like = reproduced_by_tuners(0.08 * power, tuners, mask)  # a power meter's gain
+    assert share > 0.999 and like == "scaleP"
+    share, _ = reproduced_by_tuners(np.full(n, 0.7), tuners, mask)  # a sensor's offset: no tuner makes a constant
+    assert share < 0.6
+    share, like = reproduced_by_tuners(0.08 * power + 30.0 * rng.normal(size=n), tuners, mask)
+    assert 0.5 < share < 0.999 and like == "scaleP"
+    assert reproduced_by_tuners(0.08 * power, {}, mask) == (0.0, None)
+
+
 def test_noise_floor_and_lag_and_cycles():
     rng = np.random.default_rng(1)
     t = np.arange(0, 20000.0, 10.0)
@@ -152,6 +170,22 @@ def test_a_pure_sensor_error_is_claimed_as_the_sensor_never_as_physics(tmp_path,
     assert result["claimed"][:1] == ["sensor_offset_gain"], result
 
 
+def test_a_meter_gain_that_a_tuner_absorbs_is_named_as_such(tmp_path):
+    # the air-source model tunes a power scale: a power meter reading 10 % high is the same change
+    # of the simulated power; the verdict names the twin instead of only "nothing confirmed"
+    case = BlindCase("air_source_hp", "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.1)}, seed=5,
+                     seasons=("autumn", "autumn"), population=12, generations=4)
+    result = run_case(case, tmp_path / "gain", candidates=1)
+    assert not set(result["claimed"]) & set(PHYSICAL), result
+    data = json.loads(next((tmp_path / "gain").glob("runs/*/diagnosis/diagnosis.json")).read_text())
+    gain = next(c for c in data["ranking"] if c["name"] == "sensor_offset_gain")
+    assert gain["per_target"]["PEl_W"]["reproduced_by_tuners"] > 0.95, gain["per_target"]
+    assert gain["per_target"]["PEl_W"]["most_like"] == "scaleHPPEl_nominal", gain["per_target"]
+    if not gain["claimed"]:
+        assert gain["like_retuning"], gain
+        assert "re-tuning does as well as sensor_offset_gain" in data["verdict"], data["verdict"]
+
+
 def test_null_case_claims_nothing_and_cli_errors(tmp_path):
     from simgap.calibrate import calibrate
     from simgap.setup import prepare
@@ -160,7 +194,14 @@ def test_null_case_claims_nothing_and_cli_errors(tmp_path):
     run_dir = calibrate(prepare(workflow), workers=2)
     out = CliRunner().invoke(cli, ["diagnose", str(run_dir), "--candidates", "1", "--population", "8", "--generations", "2"])
     assert out.exit_code == 0, out.output
-    assert "verdict: no significant unmodelled effect" in out.output
+    verdict = out.output.split("verdict: ", 1)[1].splitlines()[0]
+    assert verdict.startswith(("no significant unmodelled effect", "no confirmed unmodelled effect")), verdict
+    # nothing withheld: whatever an effect's recalibration gains, re-tuning alone gains as much
+    data = json.loads((run_dir / "diagnosis" / "diagnosis.json").read_text())
+    assert not data["claimed"] and "most likely" not in verdict
+    control = next((r for r in data["recalibration"] if r["effect"] == "control" and r.get("after")), None)
+    if control is not None and control["gap_shrink"] >= 0.2:
+        assert f"re-tuning without any effect shrinks the validation gap by {control['gap_shrink']:.0%} or more" in verdict, verdict
     assert (run_dir / "diagnosis" / "report.md").is_file()
     bad = CliRunner().invoke(cli, ["diagnose", str(run_dir), "--solution", "99999", "--candidates", "0"])
     assert bad.exit_code == 2 and "no evaluation with eval_id 99999" in bad.output

@@ -26,6 +26,11 @@ from ..interfaces import Effect, EffectAddition
 from .context import Context, simulate
 
 
+LIKE_RETUNING = 0.9
+"""Share of an effect's simulated change that re-tuning reproduces above which the report names
+the tuner as the effect's twin."""
+
+
 @dataclass
 class Candidate:
     name: str
@@ -55,6 +60,8 @@ class Candidate:
     first: str | None = None
     """The better-confirmed effect it was tested on top of."""
     min_shrink: float = 0.0
+    min_share: float = 0.05
+    """The screening's share threshold (``diagnose: min_share``)."""
     confirm: bool = False
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     would_test: str = "a model that can take it"
@@ -96,6 +103,30 @@ class Candidate:
             return False  # the shrink is within what chance gives on this record
         return confirming >= self.min_shrink
 
+    def reproduced(self) -> tuple[float, str | None, str | None]:
+        """(share of the effect's simulated change that re-tuning reproduces, the tuner most like
+        it, the target): the most reproduced of the targets where the effect explains at least
+        ``min_share`` of the residual (an offset on a thermometer and a gain on a meter are one
+        effect: the gain may be a tuner's twin while the offset is not), else on the target where
+        it explains most; (0, None, None) where unknown."""
+        known = {t: v for t, v in self.per_target.items() if "reproduced_by_tuners" in v}
+        if not known:
+            return 0.0, None, None
+        explains = {t: v["share"] - v.get("chance", 0.0) for t, v in known.items()}
+        strong = [t for t in known if explains[t] >= max(self.min_share, 1e-12)]
+        t = (max(strong, key=lambda k: known[k]["reproduced_by_tuners"]) if strong
+             else max(known, key=explains.get))
+        return float(known[t]["reproduced_by_tuners"]), known[t].get("most_like"), t
+
+    @property
+    def like_retuning(self) -> bool:
+        """Significant in the screening, and its recalibration shrinks the gap, but re-tuning
+        alone (the control) shrinks it as much: on these data the effect is not told apart from
+        re-tuning (:meth:`reproduced` says which tuner makes the same change, where one does)."""
+        confirming = self.shrink_vs_control
+        return (self.significant and not self.claimed and self.gap_shrink is not None and self.gap_shrink >= self.min_shrink
+                and confirming is not None and confirming < self.min_shrink)
+
     def as_dict(self) -> dict:
         return {
             "name": self.name,
@@ -122,6 +153,7 @@ class Candidate:
             "envelope_significant": self.envelope_significant,
             "switch_counts": self.switch_counts,
             "count_evidence": self.count_evidence,
+            "like_retuning": self.like_retuning,
         }
 
 
@@ -152,6 +184,27 @@ def _independent(X: np.ndarray, tol: float = 1e-6) -> np.ndarray:
     d = np.abs(np.diag(r))
     keep = d > tol * max(d.max(), 1e-300)
     return X[:, keep]
+
+
+def reproduced_by_tuners(change: np.ndarray, tuners: dict[str, np.ndarray], mask: np.ndarray) -> tuple[float, str | None]:
+    """How much of an effect's simulated change re-tuning reproduces: 1 − ‖x − Sb‖²/‖x‖² for the
+    least-squares fit of the change x by the tuners' sensitivity columns S (not centred: a
+    constant offset that no tuner makes is not reproduced), and the tuner most aligned with it.
+
+    Near 1, the data cannot tell the effect from a re-tuned parameter (a power meter's gain and
+    a tuner that scales the power): a recalibration with it gains nothing beyond re-tuning alone,
+    and the report says so instead of only "not confirmed"."""
+    x = np.asarray(change, dtype=float)[mask]
+    x = np.where(np.isfinite(x), x, 0.0)
+    ss = float(x @ x)
+    names = [n for n in tuners if np.isfinite(tuners[n][mask]).all() and np.any(tuners[n][mask])]
+    if ss <= 0.0 or not names:
+        return 0.0, None
+    S = np.column_stack([np.asarray(tuners[n], dtype=float)[mask] for n in names])
+    coef, *_ = np.linalg.lstsq(S, x, rcond=None)
+    rest = x - S @ coef
+    cosines = np.abs(S.T @ x) / (np.linalg.norm(S, axis=0) * np.sqrt(ss))
+    return float(max(0.0, 1.0 - (rest @ rest) / ss)), names[int(np.argmax(cosines))].removeprefix("tuner ")
 
 
 def explained_by_lag(r: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -615,6 +668,12 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             full[mask] = fitted
             cand.fitted[t] = full
             cand.per_target[t] = {"share": observed, "chance": chance, "p_value": p}
+            if responses and nuisance is not None:
+                change = responses[best][t]
+                if not np.any(change[mask]):  # e.g. a setting that moves the meter's gain, not this thermometer's offset
+                    change = max((resp[t] for resp in responses), key=lambda c: float(np.nansum(c[mask] ** 2)))
+                absorbed, by = reproduced_by_tuners(change, nuisance.columns.get(t, {}), mask)
+                cand.per_target[t].update(reproduced_by_tuners=absorbed, most_like=by)
             shares.append(observed - chance)
             raws.append(observed)
             ps.append(p)
@@ -642,6 +701,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
                     # the recalibration starts at the setting that cycles like the record
                     cand.best_setting = settings[best]
         cand.min_shrink = config.min_shrink
+        cand.min_share = config.min_share
         cand.confirm_significance = config.confirm_significance
     candidates.sort(key=lambda c: (not c.applicable, -c.share))
     return candidates

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .context import ROLES, Context
+from .ranking import LIKE_RETUNING
 from .where import rolling_error, worst_windows
 
 
@@ -146,9 +147,13 @@ def _no_regimes(ctx) -> str:
             + " (declare them under diagnose.roles if the model has them)") if missing else "no regime holds enough samples"
 
 
-def verdict(candidates) -> str:
-    """Confirmed effects with their shrink; then significant ones this model cannot take (and
-    what would test them); else nothing found."""
+def verdict(candidates, control_shrink: float | None = None) -> str:
+    """Confirmed effects with their shrink; then those whose recalibration only matched re-tuning
+    because a tuner makes the same change (``Candidate.like_retuning``); then significant ones this
+    model cannot take (and what would test them); else nothing found. Where nothing is confirmed
+    but re-tuning alone (the control, ``control_shrink``) shrinks the validation gap by at least
+    the confirmation threshold, the calibration itself was short of its optimum, and the verdict
+    says that first: it is the first thing to fix before any effect is looked for."""
     claimed = [c for c in candidates if c.claimed]
     named = {c.name for c in claimed}
     # a switch effect whose generic counterpart is confirmed adds nothing to the verdict
@@ -156,6 +161,7 @@ def verdict(candidates) -> str:
                 and not any(f"generic {n} " in c.would_test + " " for n in named)]
     more = len(possible) - 3
     possible = possible[:3]
+    alike = [c for c in candidates if c.applicable and c.like_retuning][:2]
     parts = []
     if claimed:
         def shrink(c):
@@ -166,12 +172,30 @@ def verdict(candidates) -> str:
         if len(claimed) > 1:
             parts.append("also confirmed: " + ", ".join(c.name + shrink(c) for c in claimed[1:]))
     else:
-        parts.append("no significant unmodelled effect" if not possible else "no confirmed unmodelled effect")
+        parts.append("no significant unmodelled effect" if not possible and not alike else "no confirmed unmodelled effect")
+        threshold = min((c.min_shrink for c in candidates), default=0.2)
+        if control_shrink is not None and control_shrink == control_shrink and control_shrink >= threshold:
+            parts.append(f"re-tuning without any effect shrinks the validation gap by {control_shrink:.0%} or more (the control, "
+                         "part 3): the calibration stopped short of its optimum; run it longer, or from the control's solution, "
+                         "before trusting it")
+    if alike:
+        def like(c):
+            share, tuner, target = c.reproduced()
+            twin = f"; re-tuning {tuner} makes {share:.0%} of its change of {target}" if tuner and share >= LIKE_RETUNING else ""
+            return f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}{twin})"
+
+        parts.append("re-tuning does as well as " + "; ".join(like(c) for c in alike))
     if possible:
         parts.append("possible, this model cannot take it: " + "; ".join(
             f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible)
             + (f"; and {more} more (part 2)" if more > 0 else ""))
     return "; ".join(parts)
+
+
+def control_gap_shrink(shrink: list[dict]) -> float | None:
+    """The control recalibration's validation-gap shrink (re-tuning without an effect), if it ran."""
+    control = next((s for s in shrink if s.get("effect") == "control" and s.get("after")), None)
+    return None if control is None else control.get("gap_shrink")
 
 
 def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict, chain: list[dict] | None = None) -> Path:
@@ -185,7 +209,7 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "roles": ctx.roles,
         "role_sources": ctx.role_sources,
         "operation": ctx.operation,
-        "verdict": verdict(candidates),
+        "verdict": verdict(candidates, control_gap_shrink(shrink)),
         "claimed": [c.name for c in claimed],
         "where": where,
         "ranking": [c.as_dict() for c in candidates],
@@ -233,7 +257,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         + ", ".join(f"{k} = {v:.4g}" for k, v in ctx.parameters.items())
         + ".",
         "",
-        f"**Verdict: {verdict(candidates)}.**",
+        f"**Verdict: {verdict(candidates, control_gap_shrink(shrink))}.**",
         "",
     ]
     claimed = [c for c in candidates if c.claimed]
@@ -329,6 +353,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
             shrunk = "cannot be added to this model: possible, not confirmed"
         if c.beyond_first is not None:
             shrunk += f"; on top of {c.first}: {_pct(c.beyond_first)} more"
+        share, tuner, target = c.reproduced()
+        if c.gap_shrink is not None and tuner is not None and share >= 0.5:
+            shrunk += f"; re-tuning {tuner} reproduces {_pct(share)} of its change of {target}"
         lines.append(
             f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
             f"{'**yes**' if c.claimed else 'no'} | {c.description} |"

@@ -12,7 +12,7 @@ from ..errors import PluginError
 from ..plugin_host import get_registry
 from .context import build_context
 from .ranking import Candidate, rank_effects, tuner_sensitivities, unexplained_targets
-from .report import verdict, write
+from .report import control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
 from .shrink import CONTROL, recalibrate
 from .warmstart import local_fit
@@ -239,7 +239,7 @@ def diagnose(
         shrink.insert(0, control)
     chain = further_effects(ctx, candidates, shrink, folder, say)
     t3 = time.perf_counter()
-    say(verdict(candidates))
+    say(verdict(candidates, control_gap_shrink(shrink)))
     timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}
     write(ctx, where, candidates, shrink, folder, timing, chain)
     if folder.resolve() == (ctx.run.dir / "diagnosis").resolve():  # the run's report.html shows it
@@ -250,7 +250,7 @@ def diagnose(
         "chain": chain,
         "report": folder / "report.md",
         "json": folder / "diagnosis.json",
-        "verdict": verdict(candidates),
+        "verdict": verdict(candidates, control_gap_shrink(shrink)),
         "claimed": [c.name for c in candidates if c.claimed],
         "ranking": [c.name for c in candidates if c.applicable],
         "candidates": candidates,
