@@ -95,6 +95,49 @@ def test_what_re_tuning_reproduces_of_an_effect():
     assert reproduced_by_tuners(0.08 * power, {}, mask) == (0.0, None)
 
 
+def test_of_two_effects_the_data_do_not_tell_apart_the_simpler_is_named_first():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.run import confirm_order, prefer_simpler
+    from simgap.diagnosis.shrink import RESIDUALS
+    from simgap.interfaces import EffectAddition, EffectParameter
+
+    rng = np.random.default_rng(5)
+    lag = EffectParameter("tau", 60.0, 5.0, 600.0)
+    model_own = EffectAddition(switch={"useSensorLag": 1.0}, parameters=(lag,))
+    generic = EffectAddition(switch={}, parameters=(lag,), around=({"kind": "output_lag"},))
+    two = EffectAddition(switch={"useX": 1.0}, parameters=(lag, EffectParameter("k", 1.0, 0.5, 2.0)))
+
+    def cand(name, addition, vs_control):
+        c = Candidate(name, "", "", True, addition=addition, significant=True, confirm=True, min_shrink=0.2)
+        c.gap_shrink = c.shrink_vs_control = vs_control
+        c.p_vs_control = 1e-4
+        c.per_target = {"T": {"share": 0.8, "chance": 0.0, "p_value": 1e-6}}
+        return c
+
+    # validation residuals of equal size (one series in three orders): the data do not tell the
+    # recalibrations apart
+    base = 0.1 * rng.normal(size=2000)
+    results = {name: {RESIDUALS: {"T": rng.permutation(base)}} for name in ("generic_lag", "sensor_lag", "two_parameter")}
+    rows = [{"effect": k, "after": {}, **v} for k, v in results.items()]
+
+    # the generic lag ranks first by a hair; the model's own lag, as simple, is named first
+    candidates = confirm_order([cand("sensor_lag", model_own, 0.91), cand("generic_lag", generic, 0.95)])
+    prefer_simpler(candidates, rows)
+    candidates = confirm_order(candidates)
+    assert [c.name for c in candidates] == ["sensor_lag", "generic_lag"]
+    assert candidates[0].equivalent == ["generic_lag"]
+    # more parameters for the same fit: the one-parameter effect first, generic or not
+    candidates = confirm_order([cand("two_parameter", two, 0.96), cand("generic_lag", generic, 0.95)])
+    prefer_simpler(candidates, rows)
+    assert [c.name for c in confirm_order(candidates)] == ["generic_lag", "two_parameter"]
+    # clearly better on the data: the best stays first, whatever its parameters
+    rows[0][RESIDUALS] = {"T": 0.05 * rng.normal(size=2000)}
+    candidates = confirm_order([cand("sensor_lag", model_own, 0.60), cand("generic_lag", generic, 0.95)])
+    prefer_simpler(candidates, rows)
+    assert [c.name for c in confirm_order(candidates)] == ["generic_lag", "sensor_lag"]
+    assert not any(c.equivalent for c in candidates)
+
+
 def test_noise_floor_and_lag_and_cycles():
     rng = np.random.default_rng(1)
     t = np.arange(0, 20000.0, 10.0)

@@ -169,6 +169,9 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             return f" (gap shrink {value:.0%} beyond re-tuning)" if value is not None and value == value else ""
 
         parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
+        if claimed[0].equivalent:
+            parts.append(f"as good on these data, not told apart from it: {', '.join(claimed[0].equivalent)} "
+                         "(named second: more parameters, or generic where the model has its own switch)")
         if len(claimed) > 1:
             parts.append("also confirmed: " + ", ".join(c.name + shrink(c) for c in claimed[1:]))
     else:

@@ -14,7 +14,7 @@ from .context import build_context
 from .ranking import Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
-from .shrink import CONTROL, recalibrate
+from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, improvement_p_value, recalibrate
 from .warmstart import local_fit
 from .where import analyse
 
@@ -77,15 +77,55 @@ def recalibration_choice(candidates: list[Candidate], budget: int) -> list[Candi
 
 
 def confirm_order(candidates: list[Candidate]) -> list[Candidate]:
-    """Recalibrated effects first, by shrink; then the rest by their share (the screening order)."""
+    """Recalibrated effects first, by shrink (one preferred by :func:`prefer_simpler` before the
+    effects it was not told apart from); then the rest by their share (the screening order)."""
     tested = [c for c in candidates if c.gap_shrink is not None]
     def key(c):
         value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
-        return -(value if value == value else -1.0)
+        return (not c.equivalent, -(value if value == value else -1.0))
 
     tested.sort(key=key)
     rest = [c for c in candidates if c.gap_shrink is None]
     return tested + rest
+
+
+def prefer_simpler(candidates: list[Candidate], results: list[dict]) -> None:
+    """Among the confirmed effects that the best-confirmed one does not beat significantly (the
+    paired test of their squared errors, as against the control), name first the one that adds
+    fewest parameters, and at equal count the model's own effect before a generic one applied
+    around the simulator: where the data cannot tell two explanations apart, the simpler one,
+    and the one the model's author built a switch for, is the better report. The others are
+    then recalibrated on top of it (:func:`on_top_of_first`) like any second effect."""
+    confirmed = [c for c in candidates if c.claimed and c.addition is not None]
+    if len(confirmed) < 2:
+        return
+    by_name = {r.get("effect"): r for r in results if "after" in r}
+    best = confirmed[0]
+    mine = by_name.get(best.name)
+    if mine is None:
+        return
+    rivals = []
+    for other in confirmed[1:]:
+        theirs = by_name.get(other.name)
+        if theirs is None:
+            continue
+        key = RESIDUALS_TRAINING if "training" in (mine.get("confirmed_on"), theirs.get("confirmed_on")) else RESIDUALS
+        weights = {t: max(best.per_target.get(t, {}).get("share", 0.0), other.per_target.get(t, {}).get("share", 0.0))
+                   for t in set(best.per_target) | set(other.per_target)}
+        p = improvement_p_value(mine.get(key, {}), theirs.get(key, {}), weights)
+        if not p <= best.confirm_significance:  # best is not significantly better (or untestable)
+            rivals.append(other)
+    if not rivals:
+        return
+    pool = [best] + rivals
+
+    def simplicity(c):
+        generic = bool(c.addition.around) and not c.addition.switch
+        return (len(c.addition.parameters), generic, pool.index(c))
+
+    chosen = min(pool, key=simplicity)
+    if chosen is not best:
+        chosen.equivalent = [c.name for c in pool if c is not chosen]
 
 
 def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folder: Path, say) -> list[dict]:
@@ -232,6 +272,8 @@ def diagnose(
             cand.gap_shrink = float("nan")
             say(f"  {cand.name}: {result['error']}")
         shrink.append(result)
+    candidates = confirm_order(candidates)
+    prefer_simpler(candidates, shrink)
     candidates = confirm_order(candidates)
     shrink += on_top_of_first(ctx, candidates, shrink, folder, say)
     candidates = confirm_order(candidates)
