@@ -138,6 +138,33 @@ def test_of_two_effects_the_data_do_not_tell_apart_the_simpler_is_named_first():
     assert not any(c.equivalent for c in candidates)
 
 
+def test_confirmed_effects_at_the_noise_floor_are_ordered_by_what_they_close():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.run import confirm_order
+
+    def cand(name, shrink, vs_control):
+        c = Candidate(name, "", "", True)
+        c.gap_shrink, c.shrink_vs_control = shrink, vs_control
+        return c
+
+    # both take the error to the noise floor (100 % beyond re-tuning); the second closes more of the gap
+    ordered = confirm_order([cand("lag", 0.70, 1.0), cand("shift", 0.85, 1.0), cand("other", 0.9, 0.5)])
+    assert [c.name for c in ordered] == ["shift", "lag", "other"]
+
+
+def test_the_verdict_says_when_re_tuning_alone_closes_the_gap():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+
+    screened = Candidate("lag", "", "", True, significant=True, confirm=True, min_shrink=0.2)
+    screened.gap_shrink, screened.shrink_vs_control, screened.p_vs_control = 0.30, 0.05, 0.01
+    untested = Candidate("defrost", "", "", False, reason="no fan")  # min_shrink never set
+    assert "stopped short" not in verdict([screened, untested], control_shrink=0.13)
+    text = verdict([screened, untested], control_shrink=0.40)
+    assert text.startswith("no confirmed unmodelled effect; re-tuning without any effect shrinks the validation gap by 40% or more")
+    assert "re-tuning alone does nearly as well as lag (with it the gap shrinks 30%, beyond re-tuning 5%)" in text
+
+
 def test_noise_floor_and_lag_and_cycles():
     rng = np.random.default_rng(1)
     t = np.arange(0, 20000.0, 10.0)
@@ -226,7 +253,7 @@ def test_a_meter_gain_that_a_tuner_absorbs_is_named_as_such(tmp_path):
     assert gain["per_target"]["PEl_W"]["most_like"] == "scaleHPPEl_nominal", gain["per_target"]
     if not gain["claimed"]:
         assert gain["like_retuning"], gain
-        assert "re-tuning does as well as sensor_offset_gain" in data["verdict"], data["verdict"]
+        assert "re-tuning alone does nearly as well as sensor_offset_gain" in data["verdict"], data["verdict"]
 
 
 def test_null_case_claims_nothing_and_cli_errors(tmp_path):

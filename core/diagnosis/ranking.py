@@ -61,10 +61,10 @@ class Candidate:
     """The better-confirmed effect it was tested on top of."""
     min_shrink: float = 0.0
     min_share: float = 0.05
+    """The screening's share threshold (``diagnose: min_share``)."""
     equivalent: list[str] = field(default_factory=list)
     """Confirmed effects these data do not tell from this one, which was named first because it
     adds fewer parameters or is the model's own (:func:`simgap.diagnosis.run.prefer_simpler`)."""
-    """The screening's share threshold (``diagnose: min_share``)."""
     confirm: bool = False
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     would_test: str = "a model that can take it"

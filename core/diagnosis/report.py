@@ -169,14 +169,15 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             return f" (gap shrink {value:.0%} beyond re-tuning)" if value is not None and value == value else ""
 
         parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
-        if claimed[0].equivalent:
-            parts.append(f"as good on these data, not told apart from it: {', '.join(claimed[0].equivalent)} "
+        equivalent = [n for n in claimed[0].equivalent if n not in named]
+        if equivalent:
+            parts.append(f"as good on these data, not told apart from it: {', '.join(equivalent)} "
                          "(named second: more parameters, or generic where the model has its own switch)")
         if len(claimed) > 1:
             parts.append("also confirmed: " + ", ".join(c.name + shrink(c) for c in claimed[1:]))
     else:
         parts.append("no significant unmodelled effect" if not possible and not alike else "no confirmed unmodelled effect")
-        threshold = min((c.min_shrink for c in candidates), default=0.2)
+        threshold = max((c.min_shrink for c in candidates), default=0.2)  # the screened ones carry the setting
         if control_shrink is not None and control_shrink == control_shrink and control_shrink >= threshold:
             parts.append(f"re-tuning without any effect shrinks the validation gap by {control_shrink:.0%} or more (the control, "
                          "part 3): the calibration stopped short of its optimum; run it longer, or from the control's solution, "
@@ -187,7 +188,7 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             twin = f"; re-tuning {tuner} makes {share:.0%} of its change of {target}" if tuner and share >= LIKE_RETUNING else ""
             return f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}{twin})"
 
-        parts.append("re-tuning does as well as " + "; ".join(like(c) for c in alike))
+        parts.append("re-tuning alone does nearly as well as " + "; ".join(like(c) for c in alike))
     if possible:
         parts.append("possible, this model cannot take it: " + "; ".join(
             f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible)

@@ -80,9 +80,13 @@ def confirm_order(candidates: list[Candidate]) -> list[Candidate]:
     """Recalibrated effects first, by shrink (one preferred by :func:`prefer_simpler` before the
     effects it was not told apart from); then the rest by their share (the screening order)."""
     tested = [c for c in candidates if c.gap_shrink is not None]
+
     def key(c):
         value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
-        return (not c.equivalent, -(value if value == value else -1.0))
+        # the shrink beyond re-tuning is 100 % for every effect that takes the error down to the
+        # noise floor; between such effects the shrink of the original gap still differs
+        raw = c.gap_shrink if c.gap_shrink == c.gap_shrink else -1.0
+        return (not c.equivalent, -(value if value == value else -1.0), -raw)
 
     tested.sort(key=key)
     rest = [c for c in candidates if c.gap_shrink is None]
