@@ -20,7 +20,10 @@ from simgap.results import log_parts, read_log
 
 from tests.conftest import QUICKSTART, set_budget
 
-EVALUATIONS, POPULATION = 300, 20
+# The run log holds back rows worth under a second of simulation past a generation's end
+# (RunStore.flush_if_due): the budget keeps the loop running for a second or more after
+# generation 4 first shows in the log, so the kill lands mid-run.
+EVALUATIONS, POPULATION = 2000, 20
 KILL_AFTER_GENERATION = 4
 
 
