@@ -216,6 +216,51 @@ def fifth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def sixth_cases(models: list[str]) -> list[BlindCase]:
+    """A sixth blind set (issue 14), written and committed before any of it ran, with no change
+    to the diagnosis of its own: it tests blind what came after the fifth set (confirmed effects
+    at the noise floor ordered by the original gap they close; the verdict's fixes) and gives a
+    second estimate of the same diagnosis. Seeds 801-831; strengths, seasons and noise levels no
+    earlier set used; every effect of each model, a sensor offset on each (a thermometer's: a
+    meter's gain is a power scale's twin on the air-source model, which the fourth set showed);
+    six null cases; two two-effect cases."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 200.0}, seed=801, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 35.0, "UALossPipe": 5.0}, seed=802, noise_scale=1.5),
+        B(air, "sensor_lag", strength={"tauSensor": 500.0}, seed=803),
+        B(air, "post_run", strength={"tPostRun": 300.0}, seed=804),
+        B(air, "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 2500.0}, seed=805, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0, "tDefrost": 350.0, "fDefrostQ": 0.7}, seed=806, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 318.15, "dTCycHys": 2.5, "tCycMinRun": 600.0, "tCycMinOff": 1200.0}, seed=807),
+        B(air, "clock_shift", shift_s=45.0, seed=808),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.6, 1.0)}, seed=809),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 120.0}, seed=810),
+        B(w2w, "heat_loss", strength={"UALossGen": 200.0}, seed=811, noise_scale=1.5),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1200.0}, seed=812),
+        B(w2w, "post_run", strength={"tPostRun": 1800.0}, seed=813),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 500.0}, seed=814),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 272.15, "PBackup": 8000.0}, seed=815),
+        B(w2w, "cycling", strength={"tCycMinRun": 3000.0, "tCycMinOff": 900.0, "plrCycMin": 0.5}, seed=816),
+        B(w2w, "clock_shift", shift_s=3600.0, seed=817),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.6, 1.0)}, seed=818),
+        # null cases
+        B(air, None, seed=820),
+        B(air, None, seed=821, noise_scale=2.0),
+        B(air, None, seed=822, truth={"mHC_flow_nominal": synth.MODELS[air].tuners["mHC_flow_nominal"].lower}),
+        B(w2w, None, seed=823),
+        B(w2w, None, seed=824, missing_fraction=0.1),
+        B(w2w, None, seed=825, truth={"nInf_1_h": synth.MODELS[w2w].tuners["nInf_1_h"].lower}),
+        # two effects at once
+        B(air, "start_up_lag", also=("heat_loss",), seed=830),
+        B(w2w, "post_run", also=("backup_heater",), seed=831),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -247,6 +292,7 @@ def main() -> None:
     parser.add_argument("--fresh", action="store_true", help="the third blind set of issue 14, fixed before any was run (see fresh_cases)")
     parser.add_argument("--fourth", action="store_true", help="the fourth blind set of issue 14, fixed before any was run (see fourth_cases)")
     parser.add_argument("--fifth", action="store_true", help="the fifth blind set of issue 14, fixed before any was run (see fifth_cases)")
+    parser.add_argument("--sixth", action="store_true", help="the sixth blind set of issue 14, fixed before any was run (see sixth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -264,7 +310,7 @@ def main() -> None:
     models = args.models.split(",")
     todo = (combination_cases(models) if args.combinations else unseen_cases(models) if args.unseen
             else fresh_cases(models) if args.fresh else fourth_cases(models) if args.fourth
-            else fifth_cases(models) if args.fifth else cases(models, args.quick))
+            else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
