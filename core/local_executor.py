@@ -306,7 +306,7 @@ class LocalExecutor:
         A task is sent ahead to a busy worker only while more tasks wait than there are workers.
         At a generation's tail a task sent ahead waits behind its worker's running one while
         another worker falls idle: with 0.5-s simulations that cost about half a simulation per
-        generation (a 2-worker run of 4 generations lost 0.2-0.4 s at each end). Holding the
+        generation (a 2-worker run of 4 generations lost 0.1-0.4 s at the end of each). Holding the
         last tasks back until a worker is free costs a pipe round trip instead."""
         while queue:
             worker = min(self._workers, key=lambda w: len(w.outstanding))

@@ -99,8 +99,8 @@ class RunStore:
     last one as a new part: to a dot-prefixed temporary name, then renamed, so a crash leaves
     complete parts only and a leftover temporary file is never read as the log. A flush costs
     what its new rows cost, so a long run does not slow down as its log grows. When results
-    arrive faster than ``flush_interval_s`` the flush waits for the next result or the end of
-    the generation (:meth:`flush`).
+    arrive faster than ``flush_interval_s`` the flush waits for the next result, or for the end
+    of a generation if its rows are worth a second of simulation (:meth:`flush_if_due`).
     """
 
     def __init__(self, run_dir: Path, run_id: str, parameter_names, error_columns, objective_columns, flush_interval_s: float = 0.2):
