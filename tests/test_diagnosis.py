@@ -95,6 +95,36 @@ def test_what_re_tuning_reproduces_of_an_effect():
     assert reproduced_by_tuners(0.08 * power, {}, mask) == (0.0, None)
 
 
+def test_a_tuner_at_its_bound_cannot_absorb_what_would_push_it_further():
+    from simgap.diagnosis.ranking import Nuisance
+
+    rng = np.random.default_rng(5)
+    n = 600
+    power = 1000.0 * (1.2 + np.sin(np.linspace(0, 30, n)))
+    heater = 2500.0 * (np.linspace(0, 1, n) < 0.8)  # a load the model lacks, on most of the time
+    # residual = measured − simulated: the model misses the heater; a +step of the power scale
+    # raises the simulated power (its column is the simulated change)
+    residual = heater - heater.mean() + 0.3 * power + 20.0 * rng.normal(size=n)
+    tau = rng.normal(size=n)
+    columns = {"PEl": {"tuner scaleP": 0.05 * power, "tuner tau": tau}}
+    down = {"PEl": {"tuner scaleP": -0.05 * power, "tuner tau": tau}}
+    mask = np.ones(n, bool)
+    # the scale at its upper bound (its step was taken downwards, lowering the power): the fit
+    # would push it higher
+    at_bound = Nuisance(down, steps={"tuner scaleP": -0.05, "tuner tau": 0.05},
+                        positions={"tuner scaleP": 0.98, "tuner tau": 0.5})
+    assert set(at_bound.free("PEl", residual, mask)) == {"tuner tau"}
+    # inside its range, or at the bound the fit would move it away from: it stays
+    inside = Nuisance(columns, steps={"tuner scaleP": 0.05, "tuner tau": 0.05},
+                      positions={"tuner scaleP": 0.6, "tuner tau": 0.5})
+    assert set(inside.free("PEl", residual, mask)) == {"tuner scaleP", "tuner tau"}
+    at_lower = Nuisance(columns, steps={"tuner scaleP": 0.05, "tuner tau": 0.05},
+                        positions={"tuner scaleP": 0.01, "tuner tau": 0.5})
+    assert set(at_lower.free("PEl", residual, mask)) == {"tuner scaleP", "tuner tau"}
+    # no positions known (an older caller): nothing dropped
+    assert set(Nuisance(columns).free("PEl", residual, mask)) == {"tuner scaleP", "tuner tau"}
+
+
 def test_of_two_effects_the_data_do_not_tell_apart_the_simpler_is_named_first():
     from simgap.diagnosis.ranking import Candidate
     from simgap.diagnosis.run import confirm_order, prefer_simpler

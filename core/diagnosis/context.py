@@ -43,6 +43,9 @@ class Budget(BaseModel):
     (a minimum run time, a post-run time) that the surrogate finds. nsga2 gets ``population``;
     any other plugin only the budget in evaluations, population x generations."""
     workers: int | None = Field(None, ge=1)
+    second_pass: bool = True
+    """When none of the recalibrated effects is confirmed, recalibrate the next ``candidates``
+    significant ones once (the screening's order is a guess; the recalibration decides)."""
 
 
 class DiagnoseConfig(BaseModel):

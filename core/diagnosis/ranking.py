@@ -26,6 +26,10 @@ from ..interfaces import Effect, EffectAddition
 from .context import Context, simulate
 
 
+AT_BOUND = 0.05
+"""A tuner closer to a bound than this share of its range is at the bound: re-tuning cannot move
+it further that way."""
+
 LIKE_RETUNING = 0.9
 """Share of an effect's simulated change that re-tuning reproduces above which the report names
 the tuner as the effect's twin."""
@@ -319,6 +323,48 @@ class Nuisance:
     columns: dict[str, dict[str, np.ndarray]]
     steps: dict[str, float] = field(default_factory=dict)
     """Per column name, the signed step in the tuner's unit range that produced it."""
+    positions: dict[str, float] = field(default_factory=dict)
+    """Per column name, the tuner's place in its unit range at the solution (0: lower bound)."""
+    blocked: dict[str, list[str]] = field(default_factory=dict)
+    """Per target, the tuners ``free`` dropped (at a bound the residual would push them past)."""
+
+    def free(self, target: str, residual: np.ndarray, mask: np.ndarray) -> dict[str, np.ndarray]:
+        """The columns of ``target`` that re-tuning could still use on ``residual``: a tuner at
+        a bound whose least-squares move (alongside the others and a constant) would take it
+        beyond that bound is dropped (and noted in ``blocked``). Its sensitivity says what a
+        move would do, not that the move is allowed: a power scale the calibration pushed to its
+        bound to make up for a missing load cannot make up any more.
+
+        The screening still clears the residual of every tuner's sensitivity: clearing only the
+        free ones was tried on the ten blind cases of sets 4-6 with a tuner at a bound and
+        changed no claim and no top three, while it made the one effect it was meant for (a
+        backup heater in a winter record) less significant. The report names the blocked tuners:
+        a tuner at its bound may be making up for an effect the model lacks."""
+        columns = dict(self.columns.get(target, {}))
+        r = np.asarray(residual, dtype=float)[mask]
+        for _ in range(len(columns)):
+            names = [n for n in columns if np.isfinite(columns[n][mask]).all() and np.any(columns[n][mask])]
+            if not names or not np.isfinite(r).all():
+                break
+            S = np.column_stack([np.ones(len(r))] + [np.asarray(columns[n], dtype=float)[mask] for n in names])
+            coef, *_ = np.linalg.lstsq(S, r, rcond=None)
+            # residual = measured − simulated, the column = simulated change for the step: the
+            # fit's coefficient times the step is the move in the unit range
+            blocked = []
+            for n, c in zip(names, coef[1:]):
+                x, move = self.positions.get(n), float(c) * self.steps.get(n, 0.0)
+                if x is None:
+                    continue
+                room = (1.0 - x) if move > 0 else x
+                if room < AT_BOUND and abs(move) > room:
+                    blocked.append((abs(move) - room, n))
+            if not blocked:
+                break
+            # one at a time, the most blocked first: the others' moves change without it
+            dropped = max(blocked)[1]
+            columns.pop(dropped)
+            self.blocked.setdefault(target, []).append(dropped.removeprefix("tuner "))
+        return columns
 
 
 def tuner_sensitivities(ctx: Context, step: float = 0.05) -> Nuisance:
@@ -328,18 +374,20 @@ def tuner_sensitivities(ctx: Context, step: float = 0.05) -> Nuisance:
     x = space.to_unit(np.array([[ctx.parameters[n] for n in names]]))[0]
     out: dict[str, dict[str, np.ndarray]] = {t: {} for t in ctx.targets}
     steps: dict[str, float] = {}
+    positions: dict[str, float] = {}
     base = ctx.joined("simulated")
     for j, name in enumerate(names):
         xp = x.copy()
         xp[j] = x[j] + step if x[j] + step <= 1.0 else x[j] - step
         steps[f"tuner {name}"] = float(xp[j] - x[j])
+        positions[f"tuner {name}"] = float(x[j])
         params = space.as_dicts(space.from_unit(xp[None, :]))[0]
         series = _simulate_all(ctx, params)
         if series is None:
             continue
         for t in ctx.targets:
             out[t][f"tuner {name}"] = series[t] - base[t]
-    return Nuisance(out, steps)
+    return Nuisance(out, steps, positions)
 
 
 def _simulate_all(ctx: Context, params: dict[str, float], addition: EffectAddition | None = None) -> dict[str, np.ndarray] | None:
@@ -581,6 +629,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             continue
         r = residual[t]
         mask = np.isfinite(r)
+        if nuisance:
+            nuisance.free(t, r, mask)  # notes the tuners at a bound, for the report
         sens = {**(nuisance.columns.get(t, {}) if nuisance else {}), **instants}
         _, N = _standardise(sens, mask)
         N = np.column_stack([np.ones(int(mask.sum())), N]) if N.size else np.ones((int(mask.sum()), 1))

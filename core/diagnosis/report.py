@@ -341,7 +341,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
               f"the same re-tuning without an effect removes, "
               f"that improvement is not chance (paired test of the squared errors against the control's, autocorrelation kept, "
               f"p ≤ {ctx.config.confirm_significance:g}), and, beside a better-confirmed effect, it shrinks the gap further "
-              f"when added on top of that one. The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
+              f"when added on top of that one. When none of the first recalibrations confirms its effect, the next significant "
+              f"ones are recalibrated once more, at half that p-value. "
+              f"The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
     lines += ["| rank | effect | share | p | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
               "|---|---|---|---|---|---|---|---|---|"]
     rank = 0
@@ -370,6 +372,11 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
     skipped = [c for c in candidates if not c.applicable and not c.in_model]
     if skipped:
         lines += ["", "Could not be tested: " + "; ".join(f"{c.name} ({c.reason})" for c in skipped) + "."]
+    at_bound = where.get("at_bound") or {}
+    if at_bound:
+        lines += ["", "At a bound: " + "; ".join(f"{', '.join(names)} for {t}" for t, names in at_bound.items())
+                  + " — the residual asks for a move beyond the bound, which re-tuning cannot make: a tuner pushed to its bound "
+                    "may be making up for an effect the model lacks (the screening still counts what moving it would absorb)."]
     lines.append("")
     for key, caption in (("ranking", "ranking"), ("top_effect", "top candidate's signature fitted to the residual")):
         if key in figs:

@@ -234,6 +234,7 @@ def diagnose(
     for t, why in unexplained.items():
         say(f"not screened: {t}: {why}")
     candidates = rank_effects(ctx, effects, nuisance, skip=unexplained)
+    where["at_bound"] = dict(nuisance.blocked)
     t2 = time.perf_counter()
     say("screening: " + ", ".join(f"{c.name} {c.share:.0%} (p={c.p_value:.2g})" for c in candidates if c.applicable))
     folder = Path(output) if output is not None else ctx.run.dir / "diagnosis"
@@ -251,31 +252,20 @@ def diagnose(
         say(f"control recalibration without an effect ({_budget(ctx)})")
         none = EffectAddition(switch={}, parameters=())
         control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance))
-    for cand in chosen:
-        say(f"recalibrating with {cand.name} added ({_budget(ctx)})")
-        weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
-        start = local_fit(ctx, nuisance, cand.addition, start_responses(cand))
-        result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control, start=start)
-        if "gap_shrink" in result:
-            cand.gap_shrink = float(result["gap_shrink"])
-            cand.shrink_vs_control = result.get("gap_shrink_vs_control")
-            cand.p_vs_control = result.get("p_vs_control")
-            if acts_mostly_in_training(ctx, cand):
-                # the validation data hold (almost) none of what the effect changes (no start in
-                # them, no cold spell...): only the training data can confirm it
-                result["confirmed_on"] = "training"
-                cand.gap_shrink = result.get("gap_shrink_training", cand.gap_shrink)
-                cand.shrink_vs_control = result.get("gap_shrink_vs_control_training", cand.shrink_vs_control)
-                cand.p_vs_control = result.get("p_vs_control_training", cand.p_vs_control)
-            else:
-                result["confirmed_on"] = "validation"
-            say(f"  validation gap shrink with {cand.name}: {result['gap_shrink']:.0%} "
-                f"(beyond re-tuning alone: {cand.shrink_vs_control if cand.shrink_vs_control is not None else float('nan'):.0%}, "
-                f"p = {cand.p_vs_control if cand.p_vs_control is not None else float('nan'):.2g})")
-        elif "error" in result:
-            cand.gap_shrink = float("nan")
-            say(f"  {cand.name}: {result['error']}")
-        shrink.append(result)
+    _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
+    if chosen and ctx.config.recalibrate.second_pass and not any(c.claimed for c in chosen):
+        # none of the first confirmed: the screening's share is a cheap guess of which effect a
+        # recalibration would confirm, and it misleads where a tuner has made up for the effect
+        # (a backup heater on most of a winter record looks like a power offset, which every
+        # generic signature explains a little): the next significant ones get their turn, once
+        more = recalibration_choice([c for c in candidates if c not in chosen], budget)
+        if more:
+            say("none of those confirmed: recalibrating the next " + ", ".join(c.name for c in more))
+            # a second look at the same data pays for itself: half the significance (Bonferroni
+            # over the two passes), or the extra recalibrations add chance claims on null cases
+            for cand in more:
+                cand.confirm_significance = ctx.config.confirm_significance / 2
+            _recalibrate_each(ctx, more, nuisance, control, folder, shrink, say)
     candidates = confirm_order(candidates)
     prefer_simpler(candidates, shrink)
     candidates = confirm_order(candidates)
@@ -304,6 +294,35 @@ def diagnose(
         "where": where,
         "timing": timing,
     }
+
+
+def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Path, shrink: list[dict], say) -> None:
+    """Recalibrate with each effect of ``group`` added; record its shrink on it and in ``shrink``."""
+    for cand in group:
+        say(f"recalibrating with {cand.name} added ({_budget(ctx)})")
+        weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
+        start = local_fit(ctx, nuisance, cand.addition, start_responses(cand))
+        result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control, start=start)
+        if "gap_shrink" in result:
+            cand.gap_shrink = float(result["gap_shrink"])
+            cand.shrink_vs_control = result.get("gap_shrink_vs_control")
+            cand.p_vs_control = result.get("p_vs_control")
+            if acts_mostly_in_training(ctx, cand):
+                # the validation data hold (almost) none of what the effect changes (no start in
+                # them, no cold spell...): only the training data can confirm it
+                result["confirmed_on"] = "training"
+                cand.gap_shrink = result.get("gap_shrink_training", cand.gap_shrink)
+                cand.shrink_vs_control = result.get("gap_shrink_vs_control_training", cand.shrink_vs_control)
+                cand.p_vs_control = result.get("p_vs_control_training", cand.p_vs_control)
+            else:
+                result["confirmed_on"] = "validation"
+            say(f"  validation gap shrink with {cand.name}: {result['gap_shrink']:.0%} "
+                f"(beyond re-tuning alone: {cand.shrink_vs_control if cand.shrink_vs_control is not None else float('nan'):.0%}, "
+                f"p = {cand.p_vs_control if cand.p_vs_control is not None else float('nan'):.2g})")
+        elif "error" in result:
+            cand.gap_shrink = float("nan")
+            say(f"  {cand.name}: {result['error']}")
+        shrink.append(result)
 
 
 def _budget(ctx) -> str:
