@@ -261,6 +261,51 @@ def sixth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def seventh_cases(models: list[str]) -> list[BlindCase]:
+    """A seventh blind set (issue 14), written and committed before any of it ran, for the
+    second recalibration pass (when none of the first candidates is confirmed, the next ones
+    are recalibrated at half the p-value). Seeds 901-931; strengths, seasons and noise levels no
+    earlier set used; every effect of each model (a backup heater in a winter record on both, the
+    case the change is about); a generic sensor lag and offset on each; six null cases (plain,
+    noise and gaps, a tuner's truth at its bound, white noise); two two-effect cases."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    summer_autumn = ("summer", "autumn", "summer", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 300.0}, seed=901, seasons=summer_autumn),
+        B(air, "heat_loss", strength={"UALossCon": 10.0, "UALossPipe": 25.0}, seed=902, noise_scale=1.2),
+        B(air, "sensor_lag", strength={"tauSensor": 400.0}, seed=903, noise_scale=1.5),
+        B(air, "post_run", strength={"tPostRun": 600.0}, seed=904),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 3500.0}, seed=905, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4200.0, "tDefrost": 300.0, "fDefrostQ": 0.5}, seed=906, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 323.15, "dTCycHys": 3.5, "tCycMinRun": 900.0, "tCycMinOff": 600.0}, seed=907),
+        B(air, "clock_shift", shift_s=150.0, seed=908),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.8, 1.0)}, seed=909),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 300.0}, seed=910),
+        B(w2w, "heat_loss", strength={"UALossGen": 350.0}, seed=911),
+        B(w2w, "sensor_lag", strength={"tauSensor": 3000.0}, seed=912),
+        B(w2w, "post_run", strength={"tPostRun": 1200.0}, seed=913, noise_scale=1.5),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 650.0}, seed=914),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 10000.0}, seed=915, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 1800.0, "plrCycMin": 0.3}, seed=916),
+        B(w2w, "clock_shift", shift_s=1800.0, seed=917),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.5, 1.0)}, seed=918),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 3600.0}, seed=919),
+        # null cases
+        B(air, None, seed=920),
+        B(air, None, seed=921, noise_scale=1.5, missing_fraction=0.1),
+        B(air, None, seed=922, truth={"scaleHPQCon_nominal": synth.MODELS[air].tuners["scaleHPQCon_nominal"].lower}),
+        B(w2w, None, seed=923),
+        B(w2w, None, seed=924, noise_scale=2.0),
+        B(w2w, None, seed=925, scramble=True),
+        # two effects at once
+        B(air, "backup_heater", also=("sensor_lag",), seed=930, seasons=winter),
+        B(w2w, "start_up_lag", also=("heat_loss",), seed=931),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -293,6 +338,7 @@ def main() -> None:
     parser.add_argument("--fourth", action="store_true", help="the fourth blind set of issue 14, fixed before any was run (see fourth_cases)")
     parser.add_argument("--fifth", action="store_true", help="the fifth blind set of issue 14, fixed before any was run (see fifth_cases)")
     parser.add_argument("--sixth", action="store_true", help="the sixth blind set of issue 14, fixed before any was run (see sixth_cases)")
+    parser.add_argument("--seventh", action="store_true", help="the seventh blind set of issue 14, fixed before any was run (see seventh_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -310,7 +356,8 @@ def main() -> None:
     models = args.models.split(",")
     todo = (combination_cases(models) if args.combinations else unseen_cases(models) if args.unseen
             else fresh_cases(models) if args.fresh else fourth_cases(models) if args.fourth
-            else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth else cases(models, args.quick))
+            else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth
+            else seventh_cases(models) if args.seventh else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
