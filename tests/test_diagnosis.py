@@ -114,6 +114,9 @@ def test_a_tuner_at_its_bound_cannot_absorb_what_would_push_it_further():
     at_bound = Nuisance(down, steps={"tuner scaleP": -0.05, "tuner tau": 0.05},
                         positions={"tuner scaleP": 0.98, "tuner tau": 0.5})
     assert set(at_bound.free("PEl", residual, mask)) == {"tuner tau"}
+    assert at_bound.blocked == {"PEl": ["scaleP"]}  # what the report names
+    at_bound.free("PEl", residual, mask)
+    assert at_bound.blocked == {"PEl": ["scaleP"]}  # screened again: noted once
     # inside its range, or at the bound the fit would move it away from: it stays
     inside = Nuisance(columns, steps={"tuner scaleP": 0.05, "tuner tau": 0.05},
                       positions={"tuner scaleP": 0.6, "tuner tau": 0.5})

@@ -341,6 +341,7 @@ class Nuisance:
         backup heater in a winter record) less significant. The report names the blocked tuners:
         a tuner at its bound may be making up for an effect the model lacks."""
         columns = dict(self.columns.get(target, {}))
+        self.blocked.pop(target, None)
         r = np.asarray(residual, dtype=float)[mask]
         for _ in range(len(columns)):
             names = [n for n in columns if np.isfinite(columns[n][mask]).all() and np.any(columns[n][mask])]

@@ -374,7 +374,11 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         lines += ["", "Could not be tested: " + "; ".join(f"{c.name} ({c.reason})" for c in skipped) + "."]
     at_bound = where.get("at_bound") or {}
     if at_bound:
-        lines += ["", "At a bound: " + "; ".join(f"{', '.join(names)} for {t}" for t, names in at_bound.items())
+        by_tuner: dict[str, list[str]] = {}
+        for t, names in at_bound.items():
+            for name in names:
+                by_tuner.setdefault(name, []).append(t)
+        lines += ["", "At a bound: " + "; ".join(f"{name} (for {', '.join(ts)})" for name, ts in by_tuner.items())
                   + " — the residual asks for a move beyond the bound, which re-tuning cannot make: a tuner pushed to its bound "
                     "may be making up for an effect the model lacks (the screening still counts what moving it would absorb)."]
     lines.append("")
