@@ -326,23 +326,24 @@ class Nuisance:
     positions: dict[str, float] = field(default_factory=dict)
     """Per column name, the tuner's place in its unit range at the solution (0: lower bound)."""
     blocked: dict[str, list[str]] = field(default_factory=dict)
-    """Per target, the tuners ``free`` dropped (at a bound the residual would push them past)."""
+    """Per target, the tuners :meth:`at_bound` found (at a bound the residual would push them past)."""
 
-    def free(self, target: str, residual: np.ndarray, mask: np.ndarray) -> dict[str, np.ndarray]:
-        """The columns of ``target`` that re-tuning could still use on ``residual``: a tuner at
-        a bound whose least-squares move (alongside the others and a constant) would take it
-        beyond that bound is dropped (and noted in ``blocked``). Its sensitivity says what a
-        move would do, not that the move is allowed: a power scale the calibration pushed to its
-        bound to make up for a missing load cannot make up any more.
+    def at_bound(self, target: str, residual: np.ndarray, mask: np.ndarray) -> list[str]:
+        """The tuners re-tuning could not move the way ``residual`` of ``target`` asks: at a
+        bound, with a least-squares move (alongside the other tuners and a constant) beyond it.
+        Dropped one at a time, the most blocked first (the others' moves change without it);
+        noted in ``blocked`` for the report. A sensitivity says what a move would do, not that
+        it is allowed: a power scale the calibration pushed to its bound to make up for a
+        missing load cannot make up any more, and may be making up for an effect the model
+        lacks.
 
         The screening still clears the residual of every tuner's sensitivity: clearing only the
         free ones was tried on the ten blind cases of sets 4-6 with a tuner at a bound and
         changed no claim and no top three, while it made the one effect it was meant for (a
-        backup heater in a winter record) less significant. The report names the blocked tuners:
-        a tuner at its bound may be making up for an effect the model lacks."""
+        backup heater in a winter record) less significant."""
         columns = dict(self.columns.get(target, {}))
-        self.blocked.pop(target, None)
         r = np.asarray(residual, dtype=float)[mask]
+        dropped: list[str] = []
         for _ in range(len(columns)):
             names = [n for n in columns if np.isfinite(columns[n][mask]).all() and np.any(columns[n][mask])]
             if not names or not np.isfinite(r).all():
@@ -361,11 +362,14 @@ class Nuisance:
                     blocked.append((abs(move) - room, n))
             if not blocked:
                 break
-            # one at a time, the most blocked first: the others' moves change without it
-            dropped = max(blocked)[1]
-            columns.pop(dropped)
-            self.blocked.setdefault(target, []).append(dropped.removeprefix("tuner "))
-        return columns
+            worst = max(blocked)[1]
+            columns.pop(worst)
+            dropped.append(worst.removeprefix("tuner "))
+        if dropped:
+            self.blocked[target] = dropped
+        else:
+            self.blocked.pop(target, None)
+        return dropped
 
 
 def tuner_sensitivities(ctx: Context, step: float = 0.05) -> Nuisance:
@@ -631,7 +635,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         r = residual[t]
         mask = np.isfinite(r)
         if nuisance:
-            nuisance.free(t, r, mask)  # notes the tuners at a bound, for the report
+            nuisance.at_bound(t, r, mask)  # for the report
         sens = {**(nuisance.columns.get(t, {}) if nuisance else {}), **instants}
         _, N = _standardise(sens, mask)
         N = np.column_stack([np.ones(int(mask.sum())), N]) if N.size else np.ones((int(mask.sum()), 1))
