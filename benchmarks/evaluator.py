@@ -19,10 +19,14 @@ interleaved (1, 2, 1, 2 …) ``--repeats`` times, and prints medians:
 - efficiency        speed-up / 2
 - CPU per eval      by process: this process over the whole ``calibrate()`` call (client, dask
                     scheduler if any, plots: ``time.process_time``), the
-                    worker processes (psutil, sampled every 50 ms while the run lasts, start-up
-                    included); sim_cpu is one simulation's CPU measured here in-process,
+                    worker processes (the system's account of reaped children, start-up
+                    included: exact, and nothing runs beside the workers to measure them); sim_cpu is one simulation's CPU measured here in-process,
                     sim_ms / metric_ms the wall times the run log holds (stretched by load);
-                    framework = client + workers − sim_cpu − metric_ms, per evaluation
+                    framework = client + workers − sim_cpu − metric_ms, per evaluation; it holds
+                    the run's fixed work too, divided by the evaluations: the simulations after
+                    the loop (the identifiability probe's 2d + 1 around the knee, the featured
+                    solutions' validation), about 13 simulations here, which is most of it at
+                    500 ms (benchmarks/fixed_cost.py separates fixed from per-evaluation cost)
 - load              ``os.getloadavg()`` before and after each case
 
 Targets (issue 17), on a quiet machine: speed-up ≥ 1.8 at 50 ms and ≥ 1.94 at 500 ms.
@@ -35,7 +39,6 @@ import os
 import statistics
 import sys
 import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -127,36 +130,40 @@ def simulation_cpu(dt_internal: float) -> float:
 
 
 class WorkerCPU:
-    """CPU seconds of this process's descendants, sampled in a thread (last value seen per pid)."""
+    """CPU seconds of this process's descendants over a block, without disturbing it.
 
-    def __init__(self):
-        import psutil
+    The operating system's account of reaped children (``RUSAGE_CHILDREN``: every descendant
+    that has exited and been waited for, recursively) is exact and costs nothing while the run
+    lasts; the pool's workers and a dask cluster's processes are joined when the run ends. A
+    descendant still alive at the end (none, normally) is read once with psutil.
 
-        self._psutil, self._seen, self._stop = psutil, {}, threading.Event()
-        self._thread = threading.Thread(target=self._sample, daemon=True)
+    It replaced a psutil sampler thread in this process (every 50 ms, each child's
+    ``cpu_times``) that took about 9 % of a core: on 2 cores it slowed the 2-worker runs (the
+    1-worker runs had the core to spare), lowering the measured speed-up, and it counted as
+    client CPU."""
 
     def __enter__(self):
-        self._thread.start()
+        import resource
+
+        self._resource = resource
+        self._before = self._children()
         return self
 
+    def _children(self) -> float:
+        usage = self._resource.getrusage(self._resource.RUSAGE_CHILDREN)
+        return usage.ru_utime + usage.ru_stime
+
     def __exit__(self, *exc):
-        self._stop.set()
-        self._thread.join()
+        import psutil
 
-    def _sample(self):
-        me = self._psutil.Process()
-        while not self._stop.is_set():
-            for child in me.children(recursive=True):
-                try:
-                    times = child.cpu_times()
-                except self._psutil.Error:
-                    continue
-                self._seen[child.pid] = times.user + times.system
-            self._stop.wait(0.05)
-
-    @property
-    def seconds(self) -> float:
-        return sum(self._seen.values())
+        alive = 0.0
+        for child in psutil.Process().children(recursive=True):
+            try:
+                times = child.cpu_times()
+            except psutil.Error:
+                continue
+            alive += times.user + times.system
+        self.seconds = self._children() - self._before + alive
 
 
 def make_data(folder: Path) -> Path:
