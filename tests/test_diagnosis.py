@@ -239,6 +239,25 @@ def test_blind_sensor_lag_is_found_and_shrinks(tmp_path):
     assert data["recalibration"][0]["after"]
 
 
+@pytest.mark.slow  # about 4 min on 2 cores (a calibration and up to eight recalibrations)
+def test_an_effect_the_screening_ranks_low_is_found_by_the_second_pass(tmp_path):
+    # the sixth blind set's air-source backup heater (0 degC, 2.5 kW, four winter days): it runs
+    # most of the time, the power scale goes to its bound to make up for it, and three generic
+    # signatures outrank it; none of them is confirmed, so the next ones are recalibrated
+    case = BlindCase("air_source_hp", "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 2500.0}, seed=805,
+                     seasons=("winter", "winter", "winter", "winter"))
+    result = run_case(case, tmp_path / "heater", candidates=3)
+    assert result["claimed"][:1] == ["backup_heater"], result
+    assert result["shrink"] > 0.8, result
+    data = json.loads(next((tmp_path / "heater").glob("runs/*/diagnosis/diagnosis.json")).read_text())
+    recalibrated = [r["effect"] for r in data["recalibration"] if r["effect"] != "control"]
+    # the heater came after the first three, which were recalibrated and not confirmed
+    assert recalibrated.index("backup_heater") >= 3, recalibrated
+    assert not any(c["claimed"] for c in data["ranking"] if c["name"] in recalibrated[:3]), data["claimed"]
+    text = next((tmp_path / "heater").glob("runs/*/diagnosis/report.md")).read_text()
+    assert "At a bound: scaleHPPEl_nominal" in text
+
+
 @pytest.mark.slow  # 30-60 s on 2 cores; the CI suite must stay under 10 min
 def test_blind_heat_loss_absorbed_by_a_tuner_is_still_confirmed(tmp_path):
     # the base calibration imitates the loss with a lower heat-output scale; switched on at that
