@@ -20,7 +20,8 @@ interleaved (1, 2, 1, 2 …) ``--repeats`` times, and prints medians:
 - CPU per eval      by process: this process over the whole ``calibrate()`` call (client, dask
                     scheduler if any, plots: ``time.process_time``), the
                     worker processes (the system's account of reaped children, start-up
-                    included: exact, and nothing runs beside the workers to measure them); sim_cpu is one simulation's CPU measured here in-process,
+                    included: exact, and nothing runs beside the workers to measure them);
+                    sim_cpu is one simulation's CPU measured here in-process,
                     sim_ms / metric_ms the wall times the run log holds (stretched by load);
                     framework = client + workers − sim_cpu − metric_ms, per evaluation; it holds
                     the run's fixed work too, divided by the evaluations: the simulations after
