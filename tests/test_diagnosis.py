@@ -308,6 +308,20 @@ def test_a_meter_gain_that_a_tuner_absorbs_is_named_as_such(tmp_path):
         assert "re-tuning alone does nearly as well as sensor_offset_gain" in data["verdict"], data["verdict"]
 
 
+def test_cli_passes_the_second_pass_switch_and_the_config_takes_it(tmp_path, monkeypatch):
+    import simgap.diagnosis as diagnosis
+    from simgap.diagnosis.context import DiagnoseConfig
+
+    seen = []
+    monkeypatch.setattr(diagnosis, "diagnose", lambda run_dir, **kw: seen.append(kw["overrides"]) or {"verdict": "-", "report": "-"})
+    for args, expected in ((["--no-second-pass"], False), (["--second-pass"], True), ([], None)):
+        out = CliRunner().invoke(cli, ["diagnose", str(tmp_path), *args])
+        assert out.exit_code == 0, out.output
+        assert seen[-1].get("recalibrate", {}).get("second_pass") == expected, seen[-1]
+    assert DiagnoseConfig().recalibrate.second_pass is True
+    assert DiagnoseConfig(recalibrate={"second_pass": False}).recalibrate.second_pass is False
+
+
 def test_null_case_claims_nothing_and_cli_errors(tmp_path):
     from simgap.calibrate import calibrate
     from simgap.setup import prepare
