@@ -306,6 +306,54 @@ def seventh_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def eighth_cases(models: list[str]) -> list[BlindCase]:
+    """An eighth blind set (issue 14), written and committed before any of it ran, with the
+    change that recalibrates a significant reading error (a sensor's offset or a meter's gain)
+    before a physical effect is claimed and judges it on every target it reads. Seeds
+    1001-1031; strengths, seasons and noise levels no earlier set used; every effect of each
+    model; reading errors on both models (a supply-thermometer offset either way on the
+    water-to-water model, a power meter's gain on the air-source one), the cases the change is
+    about; six null cases (plain, noise, gaps, a tuner's truth at its bound); two pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 500.0}, seed=1001, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 15.0}, seed=1002),
+        B(air, "sensor_lag", strength={"tauSensor": 300.0}, seed=1003),
+        B(air, "post_run", strength={"tPostRun": 450.0}, seed=1004, noise_scale=1.3),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.15, "PBackup": 3000.0}, seed=1005, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3600.0, "tDefrost": 400.0, "fDefrostQ": 0.4}, seed=1006, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 318.15, "dTCycHys": 2.0, "tCycMinRun": 1200.0, "tCycMinOff": 900.0}, seed=1007),
+        B(air, "clock_shift", shift_s=120.0, seed=1008),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.5, 1.0)}, seed=1009),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.9)}, seed=1010),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 200.0}, seed=1011),
+        B(w2w, "heat_loss", strength={"UALossGen": 250.0}, seed=1012, noise_scale=1.2),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2400.0}, seed=1013),
+        B(w2w, "post_run", strength={"tPostRun": 2400.0}, seed=1014),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 900.0}, seed=1015),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 9000.0}, seed=1016, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2400.0, "tCycMinOff": 1200.0, "plrCycMin": 0.4}, seed=1017),
+        B(w2w, "clock_shift", shift_s=2400.0, seed=1018),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.4, 1.0)}, seed=1019),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.8, 1.0)}, seed=1020),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 2700.0}, seed=1021),
+        # null cases
+        B(air, None, seed=1022),
+        B(air, None, seed=1023, noise_scale=2.0),
+        B(air, None, seed=1024, noise_scale=1.2, missing_fraction=0.05),
+        B(w2w, None, seed=1025),
+        B(w2w, None, seed=1026, truth={"THeaCurY2_K": synth.MODELS[w2w].tuners["THeaCurY2_K"].upper}),
+        B(w2w, None, seed=1027, noise_scale=1.5, missing_fraction=0.1),
+        # two effects at once
+        B(air, "heat_loss", also=("post_run",), seed=1030),
+        B(w2w, "backup_heater", also=("sensor_lag",), seed=1031, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -339,6 +387,7 @@ def main() -> None:
     parser.add_argument("--fifth", action="store_true", help="the fifth blind set of issue 14, fixed before any was run (see fifth_cases)")
     parser.add_argument("--sixth", action="store_true", help="the sixth blind set of issue 14, fixed before any was run (see sixth_cases)")
     parser.add_argument("--seventh", action="store_true", help="the seventh blind set of issue 14, fixed before any was run (see seventh_cases)")
+    parser.add_argument("--eighth", action="store_true", help="the eighth blind set of issue 14, fixed before any was run (see eighth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -357,7 +406,7 @@ def main() -> None:
     todo = (combination_cases(models) if args.combinations else unseen_cases(models) if args.unseen
             else fresh_cases(models) if args.fresh else fourth_cases(models) if args.fourth
             else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth
-            else seventh_cases(models) if args.seventh else cases(models, args.quick))
+            else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]

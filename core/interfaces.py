@@ -386,6 +386,15 @@ class Effect(ABC):
     """One sentence an engineer understands: what the effect is physically."""
     evidence: ClassVar[str] = ""
     """What it looks like in the data (shown beside the ranking)."""
+    keeps_offset: ClassVar[bool] = False
+    """True when a constant is the effect's evidence (a thermometer's offset): the screening
+    then keeps the residual's mean in, which it otherwise clears as re-tuning's."""
+    reading_error: ClassVar[bool] = False
+    """True for an error of a reading rather than of the plant (a thermometer's offset, a
+    meter's gain). A tuner can absorb such an error (a heating curve's offset takes up a supply
+    thermometer's), and what is left then looks like physics: before a physical effect is
+    claimed, a significant reading error is recalibrated too, and judged on every target whose
+    reading it changes."""
 
     def applies(self, data: DiagnosisData) -> str | None:
         """None if the effect can be tested on this model and data, else why not."""

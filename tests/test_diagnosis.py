@@ -292,6 +292,42 @@ def test_a_pure_sensor_error_is_claimed_as_the_sensor_never_as_physics(tmp_path,
     assert result["claimed"][:1] == ["sensor_offset_gain"], result
 
 
+def test_a_reading_error_is_weighed_on_every_target_it_reads():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.run import recalibration_weights
+
+    per_target = {"PEl_W": {"share": 0.08, "chance": 0.02}, "TSup_K": {"share": 0.01, "chance": 0.01}}
+    responses = [({"offset_TSup_K": 1.0}, {"PEl_W": np.zeros(5), "TSup_K": np.ones(5)}),
+                 ({"gain_PEl_W": 1.1}, {"PEl_W": np.full(5, 100.0), "TSup_K": np.zeros(5)})]
+    physical = Candidate("heat_loss", "", "", True, per_target=per_target, responses=responses)
+    assert recalibration_weights(physical) == pytest.approx({"PEl_W": 0.06, "TSup_K": 0.0})
+    # the tuners took up the thermometer's offset: the screening saw nothing on TSup_K, the
+    # recalibration is judged there as much as on the power
+    reading = Candidate("sensor_offset_gain", "", "", True, per_target=per_target, responses=responses, reading_error=True)
+    assert recalibration_weights(reading) == pytest.approx({"PEl_W": 0.06, "TSup_K": 0.06})
+    # a target no setting changes keeps its screening weight
+    weak = {"PEl_W": {"share": 0.03, "chance": 0.02}, "TSup_K": {"share": 0.01, "chance": 0.01}}
+    only_offset = Candidate("sensor_offset_gain", "", "", True, per_target=weak, responses=responses[:1], reading_error=True)
+    assert recalibration_weights(only_offset) == pytest.approx({"PEl_W": 0.01, "TSup_K": 0.05})
+    assert simgap.Effect.reading_error is False
+    from simgap.plugin_host import get_registry
+
+    assert get_registry().get("effect", "sensor_offset_gain").reading_error is True
+
+
+@pytest.mark.slow
+def test_a_thermometer_offset_a_tuner_took_up_is_not_claimed_as_physics(tmp_path):
+    # the seventh blind set's case: on the water-to-water model the heating curve's offset took
+    # up a -0.5 K supply-thermometer offset (2 K below its truth), a heat loss was confirmed on
+    # what that left in the power (50 % beyond re-tuning) and the offset, screened at 6 %, was
+    # never recalibrated. Now it is, before the physical claim, and wins (74 % of the gap;
+    # 2.5 min)
+    case = BlindCase("water_to_water_hp", "sensor_offset_gain", sensor={"TSup_K": (-0.5, 1.0)}, seed=918)
+    result = run_case(case, tmp_path / "offset", candidates=3, workers=1, optimiser="gp_front")
+    assert not set(result["claimed"]) & set(PHYSICAL), result
+    assert result["claimed"][:1] == ["sensor_offset_gain"], result
+
+
 def test_a_meter_gain_that_a_tuner_absorbs_is_named_as_such(tmp_path):
     # the air-source model tunes a power scale: a power meter reading 10 % high is the same change
     # of the simulated power; the verdict names the twin instead of only "nothing confirmed"

@@ -73,6 +73,8 @@ class Candidate:
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     would_test: str = "a model that can take it"
     """What would test it where this model cannot take it (a switch, a generic alternative)."""
+    reading_error: bool = False
+    """The effect is an error of a reading, not of the plant (:attr:`simgap.Effect.reading_error`)."""
     in_model: bool = False
     """The model has this effect already (switch on or its parameters tuned): not screened."""
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
@@ -684,6 +686,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
         keeps_offset = getattr(effect, "keeps_offset", False)
+        cand.reading_error = bool(getattr(effect, "reading_error", False))
         for t, (mask, views) in prepared_targets.items():
             if not responses and about is not None and t not in about:
                 continue

@@ -342,7 +342,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
               f"that improvement is not chance (paired test of the squared errors against the control's, autocorrelation kept, "
               f"p ≤ {ctx.config.confirm_significance:g}), and, beside a better-confirmed effect, it shrinks the gap further "
               f"when added on top of that one. When none of the first recalibrations confirms its effect, the next significant "
-              f"ones are recalibrated once more, at half that p-value. "
+              f"ones are recalibrated once more, at half that p-value. Before an effect other than a reading error is claimed, "
+              f"a significant reading error (a thermometer's offset, a meter's gain) is recalibrated too and judged on every "
+              f"target it reads: a tuner may have taken it up. "
               f"The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
     lines += ["| rank | effect | share | p | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
               "|---|---|---|---|---|---|---|---|---|"]

@@ -82,6 +82,8 @@ class SensorOffsetGain(_Around):
     evidence = "a constant bias of a temperature, or an error of a power in proportion to it, that re-tuning the model cannot reproduce"
     keeps_offset = True
     """The screening keeps the constant in the residual: an offset is this effect's evidence."""
+    reading_error = True
+    """Ruled out before a physical effect is claimed (a tuner may have absorbed it)."""
 
     def applies(self, data):
         return None if data.simulated else "needs a target"
