@@ -73,6 +73,9 @@ class Candidate:
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     would_test: str = "a model that can take it"
     """What would test it where this model cannot take it (a switch, a generic alternative)."""
+    at_bounds: dict[str, float] = field(default_factory=dict)
+    """The effect's own parameters its recalibration left at a bound of their range (name ->
+    value): an effect that needs more than its range allows may stand in for another."""
     reading_error: bool = False
     """The effect is an error of a reading, not of the plant (:attr:`simgap.Effect.reading_error`)."""
     in_model: bool = False
@@ -143,6 +146,7 @@ class Candidate:
             "evidence": self.evidence,
             "applicable": self.applicable,
             "in_model": self.in_model,
+            "at_bounds": self.at_bounds,
             "would_test": self.would_test,
             "reason": self.reason,
             "can_add": self.addition is not None,

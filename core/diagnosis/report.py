@@ -169,6 +169,10 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             return f" (gap shrink {value:.0%} beyond re-tuning)" if value is not None and value == value else ""
 
         parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
+        if claimed[0].at_bounds:
+            parts.append("but its recalibration left " + ", ".join(f"{n} = {v:.4g}" for n, v in claimed[0].at_bounds.items())
+                         + " at the bounds of their ranges: the effect needs more than its range allows, or stands in for "
+                         "another one; treat the claim with caution")
         equivalent = [n for n in claimed[0].equivalent if n not in named]
         if equivalent:
             parts.append(f"as good on these data, not told apart from it: {', '.join(equivalent)} "
@@ -408,6 +412,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
                 "Recalibrated with the original tuners (narrowed around the solution) and "
                 + ", ".join(f"{k} = {v:.4g}" for k, v in s["effect_parameters"].items())
                 + f" found; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
+                + (" **Every effect parameter sits at a bound of its range**: the effect needs more than its range "
+                   "allows, or stands in for another." if s.get("effect_at_bounds") else "")
             )
         lines += ["", "| validation metric | before | after | shrink |", "|---|---|---|---|"]
         for col, before in s["before"].items():
