@@ -97,6 +97,13 @@ def register_effects(register):
       change as a further signature column, and recalibrates to measure how far the gap
       shrinks.
 
+    Optional: ``acts_on(data)`` (the targets the declared signature is about), and two class
+    flags. ``keeps_offset = True`` when a constant is the evidence (a thermometer's offset): the
+    screening keeps the residual's mean instead of clearing it. ``reading_error = True`` for an
+    error of a reading rather than of the plant (an offset, a meter's gain): a tuner can absorb
+    such an error, so the diagnosis recalibrates a significant one before it claims any other
+    effect and judges it on every target whose reading it changes.
+
     Effects are instantiated without arguments and must not keep state between calls.
     """
 
