@@ -354,6 +354,53 @@ def eighth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def ninth_cases(models: list[str]) -> list[BlindCase]:
+    """A ninth blind set (issue 14), written and committed before any of it ran, with the
+    change that lets a further confirmed effect lead when the first one, recalibrated on top of
+    it, adds nothing (and it has no more parameters). Seeds 1101-1132; strengths, seasons and
+    noise levels no earlier set used; every effect of each model; two clock shifts on the
+    water-to-water model (the case the change is about); six null cases; three pairs (two
+    effects that are both there must both stay claimed)."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 250.0}, seed=1101, noise_scale=1.2),
+        B(air, "heat_loss", strength={"UALossCon": 15.0, "UALossPipe": 30.0}, seed=1102, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 450.0}, seed=1103),
+        B(air, "post_run", strength={"tPostRun": 700.0}, seed=1104),
+        B(air, "backup_heater", strength={"TOdaBackup": 273.65, "PBackup": 4000.0}, seed=1105, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 5400.0, "tDefrost": 250.0, "fDefrostQ": 0.6}, seed=1106, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 320.15, "dTCycHys": 3.0, "tCycMinRun": 600.0, "tCycMinOff": 1200.0}, seed=1107),
+        B(air, "clock_shift", shift_s=200.0, seed=1108),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.6, 1.0)}, seed=1109),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 400.0}, seed=1110),
+        B(w2w, "heat_loss", strength={"UALossGen": 400.0}, seed=1111),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1800.0}, seed=1112, noise_scale=1.3),
+        B(w2w, "post_run", strength={"tPostRun": 1500.0}, seed=1113),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1200.0}, seed=1114),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 272.15, "PBackup": 11000.0}, seed=1115, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1200.0, "tCycMinOff": 2400.0, "plrCycMin": 0.35}, seed=1116),
+        B(w2w, "clock_shift", shift_s=3000.0, seed=1117),
+        B(w2w, "clock_shift", shift_s=1200.0, seed=1118),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.6, 1.0)}, seed=1119),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 1800.0}, seed=1120),
+        # null cases
+        B(air, None, seed=1121),
+        B(air, None, seed=1122, noise_scale=1.5),
+        B(air, None, seed=1123, truth={"scaleHPPEl_nominal": synth.MODELS[air].tuners["scaleHPPEl_nominal"].upper}),
+        B(w2w, None, seed=1124),
+        B(w2w, None, seed=1125, noise_scale=2.0, missing_fraction=0.05),
+        B(w2w, None, seed=1126, scramble=True),
+        # two effects at once
+        B(air, "start_up_lag", also=("sensor_lag",), seed=1130),
+        B(w2w, "heat_loss", also=("post_run",), seed=1131),
+        B(w2w, "backup_heater", also=("post_run",), seed=1132, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -388,6 +435,7 @@ def main() -> None:
     parser.add_argument("--sixth", action="store_true", help="the sixth blind set of issue 14, fixed before any was run (see sixth_cases)")
     parser.add_argument("--seventh", action="store_true", help="the seventh blind set of issue 14, fixed before any was run (see seventh_cases)")
     parser.add_argument("--eighth", action="store_true", help="the eighth blind set of issue 14, fixed before any was run (see eighth_cases)")
+    parser.add_argument("--ninth", action="store_true", help="the ninth blind set of issue 14, fixed before any was run (see ninth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -406,7 +454,8 @@ def main() -> None:
     todo = (combination_cases(models) if args.combinations else unseen_cases(models) if args.unseen
             else fresh_cases(models) if args.fresh else fourth_cases(models) if args.fourth
             else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth
-            else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth else cases(models, args.quick))
+            else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth
+            else ninth_cases(models) if args.ninth else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]

@@ -360,6 +360,21 @@ def test_a_thermometer_offset_a_tuner_took_up_is_not_claimed_as_physics(tmp_path
     assert result["claimed"][:1] == ["sensor_offset_gain"], result
 
 
+@pytest.mark.slow
+def test_of_two_confirmed_effects_the_one_the_other_adds_nothing_to_leads(tmp_path):
+    # the eighth blind set's hourly water-to-water clock shift of 40 min: a sensor time
+    # constant (100 % beyond re-tuning on the supply temperature) and the shift (98 % on both
+    # targets) were both confirmed, the lag first; the shift on top of the lag adds 51 %, the
+    # lag on top of the shift nothing: the shift alone is claimed (about 2 min on 2 cores)
+    case = BlindCase("water_to_water_hp", "clock_shift", shift_s=2400.0, seed=1018)
+    result = run_case(case, tmp_path / "shift", candidates=3, workers=1, optimiser="gp_front")
+    assert result["claimed"][:1] == ["clock_shift"], result
+    data = json.loads(next((tmp_path / "shift").glob("runs/*/diagnosis/diagnosis.json")).read_text())
+    lag = next(c for c in data["ranking"] if c["name"] == "sensor_time_constant")
+    assert not lag["claimed"], lag
+    assert lag["first"] in (None, "clock_shift"), lag
+
+
 def test_a_meter_gain_that_a_tuner_absorbs_is_named_as_such(tmp_path):
     # the air-source model tunes a power scale: a power meter reading 10 % high is the same change
     # of the simulated power; the verdict names the twin instead of only "nothing confirmed"
