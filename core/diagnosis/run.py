@@ -191,79 +191,63 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         return []
     out = []
     for cand in confirmed[1:]:
-        name = f"{first.name}_and_{cand.name}"
-        say(f"recalibrating with {cand.name} on top of {first.name}")
-        both = EffectAddition(switch={**first.addition.switch, **cand.addition.switch},
-                              parameters=tuple(first.addition.parameters) + tuple(cand.addition.parameters),
-                              around=tuple(first.addition.around) + tuple(cand.addition.around))
-        cand_result = next((r for r in results if r.get("effect") == cand.name), {})
-        # a local fit from the first effect's own result with the second at the weak end of its
-        # ranges (the built-in effects' lower bounds): the first alone, nearly. Starting from the
-        # second's own fit counted twice what both had bent the tuners for (up to 2.7 times the
-        # first's gap in the combination cases); the narrowed search alone did not move off it.
-        start = dict(first_result.get("parameters", {}))
-        start.update({p.name: p.lower if p.neutral is None else p.neutral for p in cand.addition.parameters})
-        start = local_fit(ctx, None, both, start=start)
-        weights = recalibration_weights(cand)
-        result = recalibrate(ctx, name, both, folder / "recalibration" / name, weights, control=first_result, start=start, ablate=False)
-        result["on_top_of"] = first.name
+        result, value = _added_on_top(ctx, first, first_result, cand, results, folder, say)
         cand.first = first.name
-        on_training = cand_result.get("confirmed_on") == "training"
-        beyond = result.get("gap_shrink_vs_control_training" if on_training else "gap_shrink_vs_control")
-        p_beyond = result.get("p_vs_control_training" if on_training else "p_vs_control")
-        if beyond is None:  # the joint recalibration failed: the test says nothing either way
-            say(f"  {cand.name} on top of {first.name}: {result.get('error', 'no result')}")
-        else:
-            significant = p_beyond is not None and p_beyond <= ctx.config.confirm_significance
-            # a further shrink that chance could give counts as none
-            cand.beyond_first = float(beyond) if significant else min(float(beyond), 0.0)
-            say(f"  {cand.name} on top of {first.name}: gap shrink beyond {first.name} alone {cand.beyond_first:.0%}")
+        if value is not None:
+            cand.beyond_first = value
         out.append(result)
     # only an effect with no more parameters than the first may take the lead: a flexible one
     # (an offset and a gain on two targets) took up most of what a real start-up lag explains
     # (the lag added 6 % on top of it, 35 % beyond re-tuning alone) and would have displaced it
     lead = next((c for c in confirmed[1:] if c.claimed and len(c.addition.parameters) <= len(first.addition.parameters)), None)
-    if lead is not None:
-        out += _reverse(ctx, first, lead, results, folder, say)
+    lead_result = next((r for r in results if lead is not None and r.get("effect") == lead.name and "after" in r), None)
+    if lead_result is not None:
+        # the reverse: the first on top of the further one. Where it then adds nothing, the
+        # further one explains all it does and more, and leads: a sensor time constant and a
+        # clock shift both confirmed on a clock-shifted record (the lag first, 100 % against
+        # 98 % beyond re-tuning, each judged on its own targets; the shift on top of it 51 %
+        # more) are one cause, the shift. Two effects that are both there each add on top of
+        # the other and both stay claimed. Like prefer_simpler, the lead is never the more
+        # complex of the two.
+        result, value = _added_on_top(ctx, lead, lead_result, first, results, folder, say)
+        if value is not None and value < first.min_shrink:
+            first.beyond_first, first.first = value, lead.name
+            lead.beyond_first, lead.first = None, None
+        out.append(result)
     return out
 
 
-def _reverse(ctx, first: Candidate, lead: Candidate, results: list[dict], folder: Path, say) -> list[dict]:
-    """The best-confirmed effect recalibrated on top of a further one that adds to it. Where it
-    then adds nothing, the further one explains all it does and more, and leads: a sensor time
-    constant and a clock shift both confirmed on a clock-shifted record (the lag first, 100 %
-    against 98 % beyond re-tuning, each judged on its own targets; the shift on top of it 51 %
-    more) are one cause, the shift. Two effects that are both there each add on top of the
-    other and both stay claimed. Like :func:`prefer_simpler`, the lead must not be the more
-    complex of the two."""
-    lead_result = next((r for r in results if r.get("effect") == lead.name and "after" in r), None)
-    if lead_result is None:
-        return []
-    name = f"{lead.name}_and_{first.name}"
-    say(f"recalibrating with {first.name} on top of {lead.name}")
-    both = EffectAddition(switch={**lead.addition.switch, **first.addition.switch},
-                          parameters=tuple(lead.addition.parameters) + tuple(first.addition.parameters),
-                          around=tuple(lead.addition.around) + tuple(first.addition.around))
-    start = dict(lead_result.get("parameters", {}))
-    start.update({p.name: p.lower if p.neutral is None else p.neutral for p in first.addition.parameters})
+def _added_on_top(ctx, base: Candidate, base_result: dict, added: Candidate, results: list[dict], folder: Path,
+                  say) -> tuple[dict, float | None]:
+    """``added`` recalibrated together with ``base``: (the recalibration's result, the further
+    shrink beyond ``base`` alone, counted as none where chance could give it; None where the
+    joint recalibration failed and the test says nothing either way)."""
+    name = f"{base.name}_and_{added.name}"
+    say(f"recalibrating with {added.name} on top of {base.name}")
+    both = EffectAddition(switch={**base.addition.switch, **added.addition.switch},
+                          parameters=tuple(base.addition.parameters) + tuple(added.addition.parameters),
+                          around=tuple(base.addition.around) + tuple(added.addition.around))
+    # a local fit from the base effect's own result with the added one at the weak end of its
+    # ranges (the built-in effects' lower bounds): the base alone, nearly. Starting from the
+    # added one's own fit counted twice what both had bent the tuners for (up to 2.7 times the
+    # first's gap in the combination cases); the narrowed search alone did not move off it.
+    start = dict(base_result.get("parameters", {}))
+    start.update({p.name: p.lower if p.neutral is None else p.neutral for p in added.addition.parameters})
     start = local_fit(ctx, None, both, start=start)
-    result = recalibrate(ctx, name, both, folder / "recalibration" / name, recalibration_weights(first),
-                         control=lead_result, start=start, ablate=False)
-    result["on_top_of"] = lead.name
-    first_result = next((r for r in results if r.get("effect") == first.name), {})
-    on_training = first_result.get("confirmed_on") == "training"
+    result = recalibrate(ctx, name, both, folder / "recalibration" / name, recalibration_weights(added),
+                         control=base_result, start=start, ablate=False)
+    result["on_top_of"] = base.name
+    added_result = next((r for r in results if r.get("effect") == added.name), {})
+    on_training = added_result.get("confirmed_on") == "training"
     beyond = result.get("gap_shrink_vs_control_training" if on_training else "gap_shrink_vs_control")
     p_beyond = result.get("p_vs_control_training" if on_training else "p_vs_control")
     if beyond is None:
-        say(f"  {first.name} on top of {lead.name}: {result.get('error', 'no result')}")
-        return [result]
+        say(f"  {added.name} on top of {base.name}: {result.get('error', 'no result')}")
+        return result, None
     significant = p_beyond is not None and p_beyond <= ctx.config.confirm_significance
-    value = float(beyond) if significant else min(float(beyond), 0.0)
-    say(f"  {first.name} on top of {lead.name}: gap shrink beyond {lead.name} alone {value:.0%}")
-    if value < first.min_shrink:
-        first.beyond_first, first.first = value, lead.name
-        lead.beyond_first, lead.first = None, None
-    return [result]
+    value = float(beyond) if significant else min(float(beyond), 0.0)  # a shrink chance could give counts as none
+    say(f"  {added.name} on top of {base.name}: gap shrink beyond {base.name} alone {value:.0%}")
+    return result, value
 
 
 def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder: Path, say) -> list[dict]:
