@@ -401,6 +401,53 @@ def ninth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def tenth_cases(models: list[str]) -> list[BlindCase]:
+    """A tenth blind set (issue 14), written and committed before any of it ran, with the
+    change that keeps a target the model does not follow in the screening when its residual is
+    smooth (``ranking.SMOOTH_RESIDUAL``). Seeds 1201-1232; strengths, seasons and noise levels
+    no earlier set used; every effect of each model; two water-to-water heat losses (the case
+    the change is about); six null cases, two of them pure noise (the cases the rule it relaxes
+    is for); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 350.0}, seed=1201, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 20.0, "UALossPipe": 20.0}, seed=1202, noise_scale=1.3),
+        B(air, "sensor_lag", strength={"tauSensor": 350.0}, seed=1203),
+        B(air, "post_run", strength={"tPostRun": 900.0}, seed=1204),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.65, "PBackup": 3500.0}, seed=1205, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0, "tDefrost": 350.0, "fDefrostQ": 0.55}, seed=1206, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 316.15, "dTCycHys": 2.5, "tCycMinRun": 900.0, "tCycMinOff": 900.0}, seed=1207),
+        B(air, "clock_shift", shift_s=180.0, seed=1208),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.7, 1.0)}, seed=1209),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 250.0}, seed=1210),
+        B(w2w, "heat_loss", strength={"UALossGen": 300.0}, seed=1211),
+        B(w2w, "heat_loss", strength={"UALossGen": 450.0}, seed=1212, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2100.0}, seed=1213),
+        B(w2w, "post_run", strength={"tPostRun": 1800.0}, seed=1214),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1000.0}, seed=1215),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 273.65, "PBackup": 8000.0}, seed=1216, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 3000.0, "tCycMinOff": 1800.0, "plrCycMin": 0.45}, seed=1217),
+        B(w2w, "clock_shift", shift_s=2100.0, seed=1218),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.7, 1.0)}, seed=1219),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 2400.0}, seed=1220),
+        # null cases
+        B(air, None, seed=1221),
+        B(air, None, seed=1222, scramble=True),
+        B(air, None, seed=1223, noise_scale=1.3, missing_fraction=0.05),
+        B(w2w, None, seed=1224),
+        B(w2w, None, seed=1225, scramble=True),
+        B(w2w, None, seed=1226, truth={"THeaCurY2_K": synth.MODELS[w2w].tuners["THeaCurY2_K"].lower}),
+        # two effects at once
+        B(air, "backup_heater", also=("post_run",), seed=1230, seasons=winter),
+        B(w2w, "start_up_lag", also=("sensor_lag",), seed=1231),
+        B(w2w, "heat_loss", also=("backup_heater",), seed=1232, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -436,6 +483,7 @@ def main() -> None:
     parser.add_argument("--seventh", action="store_true", help="the seventh blind set of issue 14, fixed before any was run (see seventh_cases)")
     parser.add_argument("--eighth", action="store_true", help="the eighth blind set of issue 14, fixed before any was run (see eighth_cases)")
     parser.add_argument("--ninth", action="store_true", help="the ninth blind set of issue 14, fixed before any was run (see ninth_cases)")
+    parser.add_argument("--tenth", action="store_true", help="the tenth blind set of issue 14, fixed before any was run (see tenth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -455,7 +503,7 @@ def main() -> None:
             else fresh_cases(models) if args.fresh else fourth_cases(models) if args.fourth
             else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth
             else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth
-            else ninth_cases(models) if args.ninth else cases(models, args.quick))
+            else ninth_cases(models) if args.ninth else tenth_cases(models) if args.tenth else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]

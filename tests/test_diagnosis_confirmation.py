@@ -40,6 +40,24 @@ def test_a_target_the_simulation_does_not_follow_is_not_screened():
     assert "the residual is the measurement itself" in out["T_noise"]
 
 
+def test_a_target_missed_by_a_smooth_amount_stays_in_the_screening():
+    # a supply temperature held by its controller: the record's own variation is sensor noise
+    # and a slow drift the model lacks (a heat loss that grows as the water heats), the model's
+    # is a small daily ripple. The simulation explains none of the record, yet the residual is
+    # smooth: a misfit, not the measurement's scatter
+    rng = np.random.default_rng(11)
+    hours = np.arange(0, 10 * 24.0, 1.0)
+    ripple = 0.05 * np.sin(2 * np.pi * hours / 24.0)
+    drift = -0.4 - 0.3 * np.sin(2 * np.pi * hours / 150.0)
+    noisy = rng.normal(0, 0.03, hours.size)
+    simulated = {"T_drifts": 308.0 + ripple, "T_scatter": 308.0 + ripple}
+    measured = {"T_drifts": 308.0 + drift + noisy,
+                # the same record's spread as scatter alone: nothing to miss
+                "T_scatter": 308.0 + np.std(drift) * rng.normal(size=hours.size)}
+    out = unexplained_targets(_context(measured, simulated))
+    assert list(out) == ["T_scatter"], out
+
+
 def _above(before, after, noise):
     return {"rmse_before": before, "rmse_after": after, "noise": noise, "noise_before": noise}
 
