@@ -448,6 +448,55 @@ def tenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def eleventh_cases(models: list[str]) -> list[BlindCase]:
+    """An eleventh blind set (issue 14), written and committed before any of it ran, with the
+    change that lets the recalibrations search each tuner over ±50 % of its range around the
+    start instead of ±25 % (``shrink.NARROW``): a base calibration bends its tuners to imitate
+    the missing effect, and on the water-to-water model the way back was longer than the
+    window. Seeds 1301-1332; strengths, seasons and noise levels no earlier set used; every
+    effect of each model; two water-to-water start-up lags and cycling cases and a supply
+    thermometer offset (the cases the change is about); six null cases; three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=1301),
+        B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 10.0}, seed=1302, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 250.0}, seed=1303, noise_scale=1.2),
+        B(air, "post_run", strength={"tPostRun": 600.0}, seed=1304, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 4500.0}, seed=1305, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4800.0, "tDefrost": 300.0, "fDefrostQ": 0.45}, seed=1306, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 319.15, "dTCycHys": 2.0, "tCycMinRun": 1200.0, "tCycMinOff": 600.0}, seed=1307),
+        B(air, "clock_shift", shift_s=240.0, seed=1308),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.5, 1.0)}, seed=1309),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 350.0}, seed=1310),
+        B(w2w, "heat_loss", strength={"UALossGen": 350.0}, seed=1311, noise_scale=1.3),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2700.0}, seed=1312),
+        B(w2w, "post_run", strength={"tPostRun": 2100.0}, seed=1313),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 750.0}, seed=1314),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1400.0}, seed=1315, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 272.65, "PBackup": 9500.0}, seed=1316, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2700.0, "tCycMinOff": 1500.0, "plrCycMin": 0.4}, seed=1317),
+        B(w2w, "cycling", strength={"tCycMinRun": 1500.0, "tCycMinOff": 2700.0, "plrCycMin": 0.3}, seed=1318),
+        B(w2w, "clock_shift", shift_s=1500.0, seed=1319),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.4, 1.0)}, seed=1320),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 3000.0}, seed=1321),
+        # null cases
+        B(air, None, seed=1322),
+        B(air, None, seed=1323, noise_scale=1.8),
+        B(air, None, seed=1324, truth={"tauVolCon": synth.MODELS[air].tuners["tauVolCon"].upper}),
+        B(w2w, None, seed=1325),
+        B(w2w, None, seed=1326, scramble=True),
+        B(w2w, None, seed=1327, noise_scale=1.3, missing_fraction=0.08),
+        # two effects at once
+        B(air, "defrost", also=("heat_loss",), seed=1330, seasons=winter),
+        B(w2w, "post_run", also=("sensor_lag",), seed=1331),
+        B(w2w, "cycling", also=("heat_loss",), seed=1332),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -484,6 +533,7 @@ def main() -> None:
     parser.add_argument("--eighth", action="store_true", help="the eighth blind set of issue 14, fixed before any was run (see eighth_cases)")
     parser.add_argument("--ninth", action="store_true", help="the ninth blind set of issue 14, fixed before any was run (see ninth_cases)")
     parser.add_argument("--tenth", action="store_true", help="the tenth blind set of issue 14, fixed before any was run (see tenth_cases)")
+    parser.add_argument("--eleventh", action="store_true", help="the eleventh blind set of issue 14, fixed before any was run (see eleventh_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -503,7 +553,8 @@ def main() -> None:
             else fresh_cases(models) if args.fresh else fourth_cases(models) if args.fourth
             else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth
             else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth
-            else ninth_cases(models) if args.ninth else tenth_cases(models) if args.tenth else cases(models, args.quick))
+            else ninth_cases(models) if args.ninth else tenth_cases(models) if args.tenth
+            else eleventh_cases(models) if args.eleventh else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
