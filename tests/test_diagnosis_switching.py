@@ -11,7 +11,7 @@ import pytest
 
 from simgap.diagnosis.ranking import Candidate, _window_mean, explained_by_lag, max_shift_test, moves_switches
 from simgap.diagnosis.run import recalibration_choice
-from simgap.diagnosis.shrink import pinned
+from simgap.diagnosis.shrink import pinned, search_window
 from simgap.interfaces import EffectAddition
 
 
@@ -104,3 +104,20 @@ def test_blind_cycling_by_minimum_run_and_off_times_is_found(tmp_path):
     result = run_case(case, tmp_path / "cycling", candidates=2, workers=1)
     assert result["claimed"][:1] == ["cycling"], result
     assert result["beyond_control"] > 0.2, result
+
+
+def test_a_recalibration_can_take_a_bent_tuner_back_to_its_truth():
+    # the ninth blind set's water-to-water cycling case: the base calibration fitted the heating
+    # curve at 300.55 K to imitate the withheld cycling; its truth, 302.15 K, lies 40 % of the
+    # range away, and the truth's cycling at the bent curve misses the power by more than none
+    from types import SimpleNamespace
+
+    curve = SimpleNamespace(min=299.15, max=303.15, scale="linear")
+    low, high = search_window(300.55, curve)
+    assert low == 299.15 and high >= 302.15
+    # in log where the tuner is searched in log, and never beyond its own bounds
+    tau = SimpleNamespace(min=10.0, max=1000.0, scale="log")
+    low, high = search_window(100.0, tau)
+    assert (low, high) == pytest.approx((10.0, 1000.0))
+    low, high = search_window(20.0, tau)
+    assert low == pytest.approx(10.0) and high == pytest.approx(200.0)

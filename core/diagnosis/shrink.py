@@ -62,6 +62,18 @@ def pinned(value: float, p) -> bool:
     return hi > lo and min(v - lo, hi - v) <= PINNED * (hi - lo)
 
 
+def search_window(value: float, p) -> tuple[float, float]:
+    """A recalibration's range for a tuner started at ``value``: ``NARROW`` of its range either
+    side (in log where it is searched in log), within its own bounds."""
+    if p.scale == "log":
+        lo, hi = math.log(p.min), math.log(p.max)
+        width = NARROW * (hi - lo)
+        v = math.log(value)
+        return math.exp(max(lo, v - width)), math.exp(min(hi, v + width))
+    width = NARROW * (p.max - p.min)
+    return max(p.min, value - width), min(p.max, value + width)
+
+
 def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path, start: dict[str, float] | None = None) -> Path:
     """The recalibration's workflow; ``start`` (any tuner or effect parameter) seeds it."""
     start = start or {}
@@ -88,14 +100,7 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
                 entry["unit"] = p.unit
             params.append(entry)
             continue
-        if p.scale == "log":
-            lo, hi = math.log(p.min), math.log(p.max)
-            width = NARROW * (hi - lo)
-            v = math.log(value)
-            new_min, new_max = math.exp(max(lo, v - width)), math.exp(min(hi, v + width))
-        else:
-            width = NARROW * (p.max - p.min)
-            new_min, new_max = max(p.min, value - width), min(p.max, value + width)
+        new_min, new_max = search_window(value, p)
         entry = {"name": p.name, "min": new_min, "max": new_max, "start": min(max(value, new_min), new_max), "scale": p.scale}
         if p.unit:
             entry["unit"] = p.unit
