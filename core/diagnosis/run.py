@@ -14,7 +14,7 @@ from .context import build_context
 from .ranking import Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
-from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, improvement_p_value, recalibrate
+from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate
 from .warmstart import local_fit
 from .where import analyse
 
@@ -76,10 +76,6 @@ def recalibration_choice(candidates: list[Candidate], budget: int) -> list[Candi
     return chosen
 
 
-EFFECT_AT_BOUND = 0.01
-"""Share of its range within which a recalibrated effect parameter counts as at a bound."""
-
-
 def effect_parameters_at_bounds(addition: EffectAddition, values: dict[str, float]) -> dict[str, float]:
     """The effect parameters ``values`` puts at the strong end of their range (a bound that is
     not the effect's weak or neutral end), when every one of them is there (name -> value),
@@ -91,16 +87,12 @@ def effect_parameters_at_bounds(addition: EffectAddition, values: dict[str, floa
     out = {}
     for p in addition.parameters:
         v = values.get(p.name)
-        if v is None or not p.upper > p.lower:
+        if v is None:
             return {}
-        lo, hi, x = float(p.lower), float(p.upper), float(v)
         # the weak end (the effect switched off: a heat loss of 0 W/K) is no sign of an effect
         # that needs more; it is the lower bound unless the parameter names its neutral value
         weak = p.lower if p.neutral is None else p.neutral
-        if p.scale == "log" and lo > 0 and x > 0:  # a bound in the space the search moves in
-            lo, hi, x = math.log(lo), math.log(hi), math.log(x)
-        near = EFFECT_AT_BOUND * (hi - lo)
-        at_lower, at_upper = x - lo <= near, hi - x <= near
+        at_lower, at_upper = bounds_reached(v, p.lower, p.upper, p.scale == "log")
         if not ((at_lower and weak != p.lower) or (at_upper and weak != p.upper)):
             return {}
         out[p.name] = float(v)
@@ -336,7 +328,7 @@ def diagnose(
         # their bounds then shrank the gap 20 %): the next significant ones get their turn, once
         more = recalibration_choice([c for c in candidates if c not in chosen], budget)
         if more:
-            say("none of those confirmed: recalibrating the next " + ", ".join(c.name for c in more))
+            say("none of those confirmed (or only at the bounds of its ranges): recalibrating the next " + ", ".join(c.name for c in more))
             # a second look at the same data pays for itself: half the significance (Bonferroni
             # over the two passes), or the extra recalibrations add chance claims on null cases
             for cand in more:

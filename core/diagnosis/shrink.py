@@ -51,15 +51,24 @@ def _absolute_paths(value, base: Path):
 
 
 PINNED = 0.01
-"""A tuner within this share of its range from a bound counts as pinned there."""
+"""A tuner (or a recalibrated effect parameter) within this share of its range from a bound
+counts as pinned there."""
+
+
+def bounds_reached(value: float, lower: float, upper: float, log: bool) -> tuple[bool, bool]:
+    """(at the lower bound, at the upper bound): within ``PINNED`` of the range, measured in the
+    space the search moves in (log where the parameter is searched in log)."""
+    lo, hi, v = float(lower), float(upper), float(value)
+    if log and lo > 0:
+        lo, hi, v = math.log(lo), math.log(hi), math.log(max(v, 1e-300))
+    if not hi > lo:
+        return False, False
+    near = PINNED * (hi - lo)
+    return v - lo <= near, hi - v <= near
 
 
 def pinned(value: float, p) -> bool:
-    if p.scale == "log" and p.min > 0:
-        lo, hi, v = math.log(p.min), math.log(p.max), math.log(max(value, 1e-300))
-    else:
-        lo, hi, v = p.min, p.max, value
-    return hi > lo and min(v - lo, hi - v) <= PINNED * (hi - lo)
+    return any(bounds_reached(value, p.min, p.max, p.scale == "log"))
 
 
 def search_window(value: float, p) -> tuple[float, float]:
