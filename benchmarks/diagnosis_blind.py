@@ -497,6 +497,55 @@ def eleventh_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twelfth_cases(models: list[str]) -> list[BlindCase]:
+    """A twelfth blind set (issue 14), written and committed before any of it ran, with two
+    changes: a claim whose effect parameters all sit at a bound no longer stops the second pass
+    (an air backup heater hidden behind an offset and gain at their bounds), and a lag or clock
+    shift around the simulator carries the warm-up's history (the model's own sensor lag and the
+    generic one were scored on different initial states). Seeds 1401-1432; strengths, seasons
+    and noise levels no earlier set used; every effect of each model; two air backup heaters
+    and two air sensor lags (the cases the changes are about); six null cases; three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 300.0}, seed=1401, seasons=winter),
+        B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 20.0}, seed=1402),
+        B(air, "sensor_lag", strength={"tauSensor": 400.0}, seed=1403, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 200.0}, seed=1404, noise_scale=1.2),
+        B(air, "post_run", strength={"tPostRun": 800.0}, seed=1405),
+        B(air, "backup_heater", strength={"TOdaBackup": 273.65, "PBackup": 3000.0}, seed=1406, seasons=winter),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 5000.0}, seed=1407, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3600.0, "tDefrost": 400.0, "fDefrostQ": 0.5}, seed=1408, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 318.15, "dTCycHys": 3.0, "tCycMinRun": 600.0, "tCycMinOff": 900.0}, seed=1409),
+        B(air, "clock_shift", shift_s=300.0, seed=1410),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.3, 1.0)}, seed=1411),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 300.0}, seed=1412),
+        B(w2w, "heat_loss", strength={"UALossGen": 250.0}, seed=1413),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1800.0}, seed=1414),
+        B(w2w, "post_run", strength={"tPostRun": 2400.0}, seed=1415, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1200.0}, seed=1416),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 7000.0}, seed=1417, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 1800.0, "plrCycMin": 0.35}, seed=1418),
+        B(w2w, "clock_shift", shift_s=1800.0, seed=1419),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.6, 1.0)}, seed=1420),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 1800.0}, seed=1421),
+        # null cases
+        B(air, None, seed=1422),
+        B(air, None, seed=1423, noise_scale=1.5),
+        B(air, None, seed=1424, truth={"scaleHPQCon_nominal": synth.MODELS[air].tuners["scaleHPQCon_nominal"].lower}),
+        B(w2w, None, seed=1425),
+        B(w2w, None, seed=1426, scramble=True),
+        B(w2w, None, seed=1427, missing_fraction=0.05),
+        # two effects at once
+        B(air, "backup_heater", also=("start_up_lag",), seed=1430, seasons=winter),
+        B(air, "post_run", also=("sensor_lag",), seed=1431),
+        B(w2w, "sensor_lag", also=("heat_loss",), seed=1432),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -534,6 +583,7 @@ def main() -> None:
     parser.add_argument("--ninth", action="store_true", help="the ninth blind set of issue 14, fixed before any was run (see ninth_cases)")
     parser.add_argument("--tenth", action="store_true", help="the tenth blind set of issue 14, fixed before any was run (see tenth_cases)")
     parser.add_argument("--eleventh", action="store_true", help="the eleventh blind set of issue 14, fixed before any was run (see eleventh_cases)")
+    parser.add_argument("--twelfth", action="store_true", help="the twelfth blind set of issue 14, fixed before any was run (see twelfth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -554,7 +604,8 @@ def main() -> None:
             else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth
             else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth
             else ninth_cases(models) if args.ninth else tenth_cases(models) if args.tenth
-            else eleventh_cases(models) if args.eleventh else cases(models, args.quick))
+            else eleventh_cases(models) if args.eleventh else twelfth_cases(models) if args.twelfth
+            else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]

@@ -61,6 +61,46 @@ def test_around_transforms_on_known_series():
     assert delayed[np.searchsorted(t, 7200.0 + 360.0)] == 0.0
 
 
+def test_output_lag_and_shift_carry_the_warm_up_history(tmp_path):
+    """A lag around the simulator starts the scored segment where the warm-up left it, as a
+    sensor inside the model would: the same as simulating from the warm-up's start with every
+    sample scored, and unlike a lag that starts at the first scored value."""
+    from simgap.evaluation import evaluate
+
+    frame = pd.read_csv(DATA)
+    around = [{"apply": "output_lag", "variable": "T_zone", "tau": 7200.0},
+              {"apply": "output_shift", "variable": "P_el", "seconds": 1800.0}]
+    values = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
+
+    def validation(folder, segments, wrapped=True):
+        path = _workflow(folder, frame)
+        yaml = YAML()
+        doc = yaml.load(path.read_text())
+        doc["data"]["segments"] = segments
+        if wrapped:
+            doc["simulator"]["around"] = around
+        with path.open("w") as fh:
+            yaml.dump(doc, fh)
+        setup = prepare(path).validation
+        return setup, evaluate(setup, -1, values, keep_series=True)["series"]
+
+    setup, warm = validation(tmp_path / "warm", {"training": {"start": "0%", "end": "50%"},
+                                                 "validation": {"start": "75%", "end": "100%"}, "warmup": "12h"})
+    case = setup.cases[0]
+    assert case.start < case.output_time[0]  # the warm-up lies before the first scored sample
+    sim_start = str(pd.Timestamp(case.reference_time) + pd.Timedelta(seconds=float(case.start)))
+    _, whole = validation(tmp_path / "whole", {"training": {"start": "0%", "end": "50%"},
+                                               "validation": {"start": sim_start, "end": "100%"}})
+    n = len(case.output_time)
+    for name in ("T_zone", "P_el"):
+        np.testing.assert_allclose(np.ravel(warm[name]), np.ravel(whole[name])[-n:], rtol=1e-9, atol=1e-9)
+    # started at the first scored value instead, the lag reads otherwise at the segment's start
+    _, bare = validation(tmp_path / "bare", {"training": {"start": "0%", "end": "50%"},
+                                             "validation": {"start": "75%", "end": "100%"}, "warmup": "12h"}, wrapped=False)
+    naive = _lag(np.ravel(bare["T_zone"]), np.asarray(case.output_time, dtype=float), 7200.0)
+    assert np.abs(naive - np.ravel(warm["T_zone"]))[:10].max() > 0.05
+
+
 def test_around_bad_entry_names_its_line(tmp_path):
     frame = pd.read_csv(DATA)
     path = _workflow(tmp_path, frame)
