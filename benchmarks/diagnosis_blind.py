@@ -592,10 +592,19 @@ def main() -> None:
     parser.add_argument("--reverse", action="store_true",
                         help="run the cases last first (a second process working towards one that runs them in order)")
     parser.add_argument("--table", type=Path, metavar="BLIND_RESULTS_JSON",
-                        help="only print the table of a finished run's blind_results.json")
+                        help="only print the table of a finished run's blind_results.json (with the traces.json beside it, if any)")
+    parser.add_argument("--traces", choices=("pairs", "all"),
+                        help="only measure how far each withheld model effect moves the noise-free record (blind.withheld_trace) "
+                             "for the set's cases with several effects (pairs) or every case (all); writes --out/traces.json")
     args = parser.parse_args()
     if args.table:
-        print(table(json.loads(args.table.read_text())))
+        results = json.loads(args.table.read_text())
+        traces_file = args.table.parent / "traces.json"
+        traces = json.loads(traces_file.read_text()) if traces_file.is_file() else {}
+        for r in results:
+            if r["case"] in traces:
+                r["trace"] = traces[r["case"]]
+        print(table(results))
         return
     root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
     models = args.models.split(",")
@@ -614,6 +623,19 @@ def main() -> None:
         todo = todo[k - 1 :: n]
     if args.reverse:
         todo = todo[::-1]
+    if args.traces:
+        from simgap.models.blind import withheld_trace
+
+        root.mkdir(parents=True, exist_ok=True)
+        path = root / "traces.json"
+        traces = json.loads(path.read_text()) if path.is_file() else {}
+        for case in todo:
+            if case.label in traces or (args.traces == "pairs" and len(case.withheld) < 2) or case.effect is None:
+                continue
+            traces[case.label] = withheld_trace(case)
+            print(f"{case.label:70s} " + ", ".join(f"{k} {v:.3g}" for k, v in traces[case.label].items()), flush=True)
+            path.write_text(json.dumps(traces, indent=2))
+        return
     results = []
     t0 = time.perf_counter()
     for case in todo:
@@ -653,6 +675,11 @@ def main() -> None:
     print()
     print(table(results))
     print(f"\n{len(results)} cases in {time.perf_counter() - t0:.0f} s; cases in {root}; load average {os.getloadavg()}")
+
+
+TRACE = 0.1
+"""A withheld effect moving the noise-free record by less than this share of the noise (RMS,
+on its most moved target) left no trace in the data."""
 
 
 def _pct(v) -> str:
@@ -701,6 +728,15 @@ def table(results: list[dict]) -> str:
         first, every = sum(r["top1"] for r in several), sum(r["top3"] for r in several)
         rows.append(f"| **all** | **several effects withheld** (top-1: first claim withheld; top-3: all claimed) | {len(several)} | "
                     f"**{first}/{len(several)}** | **{every}/{len(several)}** | | | | – |")
+        traced = [r for r in several if "trace" in r]
+        if traced:
+            # a withheld effect that moves the noise-free record by under a tenth of the noise
+            # left no trace to find (measured by --traces)
+            seen = [r for r in traced if min(r["trace"].values(), default=1.0) >= TRACE]
+            gone = [f"{r['case']} ({', '.join(k for k, v in r['trace'].items() if v < TRACE)})" for r in traced if r not in seen]
+            rows.append(f"| **all** | **several effects withheld, each leaving a trace** (≥ {TRACE:g} noise σ; "
+                        f"{len(gone)} left out: {'; '.join(gone) or 'none'}) | {len(seen)} | **{sum(r['top1'] for r in seen)}/{len(seen)}** | "
+                        f"**{sum(r['top3'] for r in seen)}/{len(seen)}** | | | | – |")
     if nulls:
         rows.append(f"| **all** | **null** | {len(nulls)} | | | | | | **{sum(bool(r['claimed']) for r in nulls)}** |")
     return "\n".join(rows)

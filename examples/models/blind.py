@@ -124,6 +124,44 @@ class BlindCase:
         return f"{self.model}:{what}{'(' + extra + ')' if extra else ''}:seed{self.seed}"
 
 
+def _model_effects(case: BlindCase) -> dict[str, dict[str, float]]:
+    """The model switches ``case`` turns on in its truth, with their settings."""
+    strength = {**VISIBLE_STRENGTH.get(case.model, {}).get(case.effect or "", {}), **case.strength}
+    effects = {case.effect: strength} if case.effect and case.effect not in SENSOR_EFFECTS else {}
+    for other in case.also:
+        effects[other] = dict(VISIBLE_STRENGTH.get(case.model, {}).get(other, {}))
+    return effects
+
+
+def withheld_trace(case: BlindCase) -> dict[str, float]:
+    """Per model effect ``case`` withholds, how far it moves the noise-free record: the largest,
+    over the scored targets, of RMS(record with it - record without it) / the target's noise.
+    Near 0 the data hold no trace of it, and no diagnosis can find it (a post-run in a winter
+    record whose compressor never stops). A sensor effect is written onto the record and always
+    shows. Two noise-free simulations of the truth, a few seconds each."""
+    shape = _WORKFLOW_SHAPE[case.model]
+    effects = _model_effects(case)
+    truth = {**BLIND_TUNERS[case.model], **case.truth}
+    noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
+    step = float(case.resolution or shape["resolution"])
+    settings = dict(seasons=case.seasons or shape["seasons"], days_per_season=case.days or shape["days"],
+                    parameters=truth, seed=case.seed, step=None if case.model != "water_to_water_hp" else min(step, 60.0))
+
+    def record(with_effects):
+        frame = synth.simulate_truth(case.model, effects=with_effects or None, **settings)
+        return synth.block_means(frame, step) if step > 1.0 else frame
+
+    import numpy as np
+
+    full = record(effects)
+    out = {}
+    for name in effects:
+        without = record({k: v for k, v in effects.items() if k != name})
+        out[name] = max(float(np.sqrt(np.nanmean((full[t].to_numpy() - without[t].to_numpy()) ** 2))) / sigma
+                        for t, sigma in noise.items())
+    return out
+
+
 def write_case(case: BlindCase, folder: Path) -> Path:
     """Write the measured data and the base-model workflow of ``case``; returns the workflow path."""
     folder = Path(folder)
@@ -131,11 +169,7 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     shape = _WORKFLOW_SHAPE[case.model]
     spec = synth.MODELS[case.model]
     truth = {**BLIND_TUNERS[case.model], **case.truth}
-    strength = {**VISIBLE_STRENGTH.get(case.model, {}).get(case.effect or "", {}), **case.strength}
-    effects = {case.effect: strength} if case.effect and case.effect not in SENSOR_EFFECTS else {}
-    for other in case.also:
-        effects[other] = dict(VISIBLE_STRENGTH.get(case.model, {}).get(other, {}))
-    effects = effects or None
+    effects = _model_effects(case) or None
     noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
     data = synth.write_dataset(
         folder / "measured.parquet",
