@@ -121,3 +121,14 @@ def test_a_recalibration_can_take_a_bent_tuner_back_to_its_truth():
     assert (low, high) == pytest.approx((10.0, 1000.0))
     low, high = search_window(20.0, tau)
     assert low == pytest.approx(10.0) and high == pytest.approx(200.0)
+
+
+def test_a_withheld_effect_without_a_trace_in_the_record_is_measured_as_such():
+    """The blind bench's check of its own cases: a post-run in a winter record whose compressor
+    never stops changes nothing (a pair case of the tenth set withheld one), a backup heater
+    there moves the power by many noise levels."""
+    from simgap.models.blind import BlindCase, withheld_trace
+
+    winter = ("winter", "winter", "winter", "winter")
+    trace = withheld_trace(BlindCase("air_source_hp", "backup_heater", also=("post_run",), seed=1230, seasons=winter))
+    assert trace["post_run"] < 0.01 and trace["backup_heater"] > 10.0, trace
