@@ -46,10 +46,6 @@ class Budget(BaseModel):
     second_pass: bool = True
     """When none of the recalibrated effects is confirmed, recalibrate the next ``candidates``
     significant ones once (the screening's order is a guess; the recalibration decides)."""
-    restart: bool = True
-    """When nothing is confirmed and re-tuning alone (the control) shrinks the validation gap
-    by ``RESTART`` or more, the calibration stopped short: diagnose once more from the
-    control's solution, whose residual no longer holds what re-tuning removes."""
 
 
 class DiagnoseConfig(BaseModel):

@@ -277,48 +277,6 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
     return chain
 
 
-RESTART = 0.5
-"""The control's validation-gap shrink from which a diagnosis with no confirmed effect starts
-again from the control's solution (``Budget.restart``)."""
-
-
-def restart_from_control(ctx, candidates: list[Candidate], control: dict | None, folder: Path, say) -> dict | None:
-    """The diagnosis of the control's solution (re-tuning without any effect), where this one
-    confirmed nothing and the control shrank the gap by ``RESTART`` or more; else None.
-
-    A base calibration that stopped short leaves in its residual what re-tuning removes, and the
-    screening, run against that residual, ranks what an effect explains of a misfit the tuners
-    could mend: on blind air-source cases whose control shrank the gap 56-90 %, a start-up lag
-    and cycling were ranked below a sensor offset and left unconfirmed. Run once (the restart
-    does not restart again), at half the confirmation significance: a second look at the same
-    data (Bonferroni, as the second pass)."""
-    if (control is None or not ctx.config.recalibrate.restart or any(c.claimed for c in candidates)
-            or not control.get("run") or control.get("solution") is None):
-        return None
-    value = control.get("gap_shrink")
-    if not (value is not None and value == value and value >= RESTART):
-        return None
-    say(f"nothing confirmed, and re-tuning alone shrank the gap by {value:.0%}: the calibration stopped short; "
-        "diagnosing again from the control's solution")
-    overrides = ctx.config.model_dump(exclude={"solution"})
-    overrides["recalibrate"]["restart"] = False
-    overrides["confirm_significance"] = ctx.config.confirm_significance / 2
-    try:
-        again = diagnose(control["run"], solution=control["solution"], output=folder / "restarted",
-                         overrides=overrides, progress=(lambda m: say("  " + m)))
-    except Exception as exc:  # this diagnosis stands; say why the restart did not
-        say(f"  the restart failed: {type(exc).__name__}: {exc}")
-        return None
-    note = (f"\n\n## Diagnosed again from the control's solution\n\nNothing was confirmed here, and re-tuning "
-            f"without any effect (the control) shrank the validation gap by {value:.0%}: the calibration stopped "
-            f"short. The diagnosis of the control's solution (`restarted/report.md`): {again['verdict']}\n")
-    report = folder / "report.md"
-    if report.is_file():
-        report.write_text(report.read_text() + note)
-    again["restarted_from"] = {"report": folder / "report.md", "control_gap_shrink": value}
-    return again
-
-
 def diagnose(
     run_dir,
     *,
@@ -398,13 +356,10 @@ def diagnose(
     say(verdict(candidates, control_gap_shrink(shrink)))
     timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}
     write(ctx, where, candidates, shrink, folder, timing, chain)
-    again = restart_from_control(ctx, candidates, control, folder, say)
     if folder.resolve() == (ctx.run.dir / "diagnosis").resolve():  # the run's report.html shows it
         from ..report import write_report
 
         write_report(ctx.run.dir)
-    if again is not None:
-        return again
     return {
         "chain": chain,
         "report": folder / "report.md",

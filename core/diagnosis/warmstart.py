@@ -139,10 +139,7 @@ def local_fit(
         r = np.concatenate([p.measured[t] - p.simulated[t] for p in training])
         s = float(np.nanstd(r))
         scale[t] = s if s > 0 else 1.0
-    failed = None
-
     def residuals(x):
-        nonlocal failed
         params = {**ctx.parameters, **switch, **values(x)}
         parts = []
         for piece in training:
