@@ -724,6 +724,16 @@ def table(results: list[dict]) -> str:
             f"**{top3}/{len(effects)} ({top3 / len(effects):.0%})** | {_pct(_median(r.get('shrink') for r in effects))} | "
             f"{_pct(_median(r.get('beyond_control') for r in effects))} | {_pct(_median(r.get('closed') for r in effects))} | – |"
         )
+    traced = [r for r in effects if "trace" in r]
+    if traced:
+        # a model effect that moves the noise-free record by under a tenth of the noise left no
+        # trace to find (measured by --traces; a sensor effect written onto the record always shows)
+        seen = [r for r in traced if min(r["trace"].values(), default=1.0) >= TRACE]
+        gone = [r["case"] for r in traced if r not in seen]
+        top1, top3 = sum(r["top1"] for r in seen), sum(r["top3"] for r in seen)
+        same = sum(r.get("top1_same_physics", r["top1"]) for r in seen)
+        rows.append(f"| **all** | **single effects leaving a trace** (≥ {TRACE:g} noise σ; {len(gone)} left out: {'; '.join(gone) or 'none'}; "
+                    f"top-1 with the same physics counted {same}/{len(seen)}) | {len(seen)} | **{top1}/{len(seen)}** | **{top3}/{len(seen)}** | | | | – |")
     if several:
         first, every = sum(r["top1"] for r in several), sum(r["top3"] for r in several)
         rows.append(f"| **all** | **several effects withheld** (top-1: first claim withheld; top-3: all claimed) | {len(several)} | "
