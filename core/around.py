@@ -14,6 +14,10 @@ becomes a tuner like any model parameter)::
         - {apply: input_add, variable: Q_gain, constant: q0, per_kelvin: ua, of: T_out, reference: 293.15}
         - {apply: input_hysteresis, variable: u_hp, on_delay: t_on, off_delay: t_off}
 
+A lag or a shift on an output runs over the segment's warm-up too (the wrapper asks the
+simulator for the warm-up's outputs and drops them again), so its state at the first scored
+sample is what the warm-up left, as for a sensor inside the model.
+
 Nothing here knows a model: the gap diagnosis adds generic effects to any model this way, and
 a user may keep them in a calibration. The wrapped simulator reports the entries' parameter
 names as settable parameters, so ``check_model`` and the optimiser treat them as tuners, and

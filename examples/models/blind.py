@@ -294,6 +294,9 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         overrides["recalibrate"]["optimiser"] = optimiser
     result = diagnose(run_dir, overrides=overrides, progress=None, output=Path(run_dir) / "diagnosis_again" if reuse is not None else None)
     t2 = time.perf_counter()
+    # whether the record holds each withheld model effect at all (a start-up lag in a winter
+    # record whose compressor never stops does not): the table counts such cases apart
+    trace = withheld_trace(case) if _model_effects(case) else {}
     ranking = result["ranking"]
     claimed = result["claimed"]
     recal = next((r for r in result["recalibration"] if r["effect"] == case.effect), {})
@@ -326,6 +329,7 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         "calibration_s": t1 - t0,
         "diagnosis_s": t2 - t1,
         "report": str(result["report"]),
+        "trace": trace,
     }
 
 
