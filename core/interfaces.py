@@ -396,6 +396,13 @@ class Effect(ABC):
     claimed, a significant reading error is recalibrated too, and judged on every target whose
     reading it changes."""
 
+    same_as: ClassVar[str] = ""
+    """The name of another effect that is the same physics in the same place (a model's own
+    sensor lag on the flow temperature and the generic lag around the simulator on it). Where
+    both are significant, the diagnosis recalibrates only this one, the model's own, and spends
+    the other's recalibration on the next candidate: the two fit alike and the tie goes to the
+    model's own anyway."""
+
     def applies(self, data: DiagnosisData) -> str | None:
         """None if the effect can be tested on this model and data, else why not."""
         return None

@@ -88,6 +88,25 @@ def test_model_and_generic_effects_take_turns_for_the_recalibrations():
     assert recalibration_choice(ranked, 0) == []
 
 
+def test_of_two_effects_of_the_same_physics_only_the_models_own_is_recalibrated():
+    ranked = [_candidate("generic_lag", 0.9, True), _candidate("clock", 0.8, True), _candidate("own_lag", 0.7, False),
+              _candidate("heater", 0.2, False)]
+    ranked[2].same_as = "generic_lag"
+    # the generic twin's slot goes to the next candidate, the heater
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["clock", "own_lag", "heater"]
+    assert ranked[0].twin_of == "own_lag"
+    # a second pass over the rest: the twin stays out though its own effect was taken before
+    rest = [c for c in ranked if c.name in ("generic_lag", "heater")]
+    for c in ranked:
+        c.twin_of = ""
+    assert [c.name for c in recalibration_choice(rest, 3, everyone=ranked)] == ["heater"]
+    # a model without the switch: the generic lag is tested
+    no_switch = [c for c in ranked if c.name != "own_lag"]
+    for c in no_switch:
+        c.twin_of = ""
+    assert [c.name for c in recalibration_choice(no_switch, 3)] == ["generic_lag", "heater", "clock"]
+
+
 @pytest.mark.parametrize("value, expected", [(0.6, True), (0.605, True), (0.9, False), (1.399, True)])
 def test_a_tuner_within_one_percent_of_a_bound_is_pinned(value, expected):
     p = SimpleNamespace(min=0.6, max=1.4, scale="linear")

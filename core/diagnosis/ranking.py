@@ -79,6 +79,10 @@ class Candidate:
     value): an effect that needs more than its range allows may stand in for another."""
     reading_error: bool = False
     """The effect is an error of a reading, not of the plant (:attr:`simgap.Effect.reading_error`)."""
+    same_as: str = ""
+    """Another effect of the same physics (:attr:`simgap.Effect.same_as`)."""
+    twin_of: str = ""
+    """The model's own effect of the same physics that was recalibrated in this one's place."""
     in_model: bool = False
     """The model has this effect already (switch on or its parameters tuned): not screened."""
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
@@ -149,6 +153,7 @@ class Candidate:
             "in_model": self.in_model,
             "at_bounds": self.at_bounds,
             "would_test": self.would_test,
+            "twin_of": self.twin_of,
             "reason": self.reason,
             "can_add": self.addition is not None,
             "features": self.features,
@@ -704,6 +709,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         shares, raws, ps = [], [], []
         keeps_offset = getattr(effect, "keeps_offset", False)
         cand.reading_error = bool(getattr(effect, "reading_error", False))
+        cand.same_as = str(getattr(effect, "same_as", "") or "")
         for t, (mask, views) in prepared_targets.items():
             if not responses and about is not None and t not in about:
                 continue

@@ -173,6 +173,9 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             parts.append("but its recalibration left " + ", ".join(f"{n} = {v:.4g}" for n, v in claimed[0].at_bounds.items())
                          + " at the bounds of their ranges: the effect needs more than its range allows, or stands in for "
                          "another one; treat the claim with caution")
+        twins = [c.name for c in candidates if c.twin_of == claimed[0].name]
+        if twins:
+            parts.append(f"the same physics as {', '.join(twins)}, recalibrated as the model's own only")
         equivalent = [n for n in claimed[0].equivalent if n not in named]
         if equivalent:
             parts.append(f"as good on these data, not told apart from it: {', '.join(equivalent)} "

@@ -51,13 +51,25 @@ def start_responses(cand: Candidate) -> list:
     return cand.responses
 
 
-def recalibration_choice(candidates: list[Candidate], budget: int) -> list[Candidate]:
+def recalibration_choice(candidates: list[Candidate], budget: int, everyone: list[Candidate] | None = None) -> list[Candidate]:
     """The significant addable effects to recalibrate: the model's own effects (a switch in the
     model) and the generic ones around the simulator take turns, each family in its order of
     share, the better first. Generic effects fit many residuals a little (a clock shift, a
     sensor lag, an input gain all follow the simulated changes); ranked in one list they took
-    every slot from the model's own effect that caused the gap."""
-    testable = [c for c in candidates if c.significant and c.addition is not None]
+    every slot from the model's own effect that caused the gap.
+
+    An effect another significant addable one of ``everyone`` (default: ``candidates``) names
+    as the same physics (:attr:`simgap.Effect.same_as`) gets no slot: the two fit alike (a
+    model's own sensor lag and the generic lag on the same thermometer, 402 s and 93 % each on
+    a blind case) and the tie goes to the model's own, so its twin's slot goes to the next
+    candidate (an air backup heater, seventh in the screening, lost its second-pass slot to the
+    two lags)."""
+    everyone = candidates if everyone is None else everyone
+    own_twins = {c.same_as: c.name for c in everyone if c.same_as and c.significant and c.addition is not None}
+    for c in everyone:
+        if c.name in own_twins and c.addition is not None:
+            c.twin_of = own_twins[c.name]
+    testable = [c for c in candidates if c.significant and c.addition is not None and not c.twin_of]
     families = [[c for c in testable if not c.addition.around], [c for c in testable if c.addition.around]]
     families = [f for f in families if f]
     families.sort(key=lambda f: -f[0].share)
@@ -69,7 +81,8 @@ def recalibration_choice(candidates: list[Candidate], budget: int) -> list[Candi
     # an effect that moves the switching and stands out on the envelopes gets a slot beyond the
     # budget: sample by sample its cycles are out of phase, so its share there says little
     # (or whose setting brings the number of starts towards the record's, see switch_count_evidence)
-    switching = [c for c in candidates if (c.envelope_significant or c.count_evidence) and c.addition is not None and c not in chosen]
+    switching = [c for c in candidates if (c.envelope_significant or c.count_evidence) and c.addition is not None
+                 and c not in chosen and not c.twin_of]
     if budget > 0 and switching:
         chosen.append(max(switching, key=lambda c: (c.envelope_significant,
                                                      max([v["share"] - v["chance"] for v in c.envelope.values()] or [0.0]))))
@@ -326,7 +339,7 @@ def diagnose(
         # up for the effect (a backup heater on most of a winter record looks like a power
         # offset, which every generic signature explains a little, and an offset and gain at
         # their bounds then shrank the gap 20 %): the next significant ones get their turn, once
-        more = recalibration_choice([c for c in candidates if c not in chosen], budget)
+        more = recalibration_choice([c for c in candidates if c not in chosen], budget, everyone=candidates)
         if more:
             say("none of those confirmed (or only at the bounds of its ranges): recalibrating the next " + ", ".join(c.name for c in more))
             # a second look at the same data pays for itself: half the significance (Bonferroni

@@ -126,6 +126,9 @@ class SensorLag(_SwitchEffect):
     description = "the temperature sensor reads through a first-order lag (sensor mass, immersion sleeve)"
     evidence = "residual follows the time derivative of the temperature: every rise and fall is measured late"
     switch = "useSensorLag"
+    # the model's lag on the thermometer's reading, which the generic lag around the simulator
+    # applies to the same output: one of the two is recalibrated, this one
+    same_as = "sensor_time_constant"
     tuners = (P("tauSensor", 60.0, 5.0, 3600.0, "s", "log"),)
     needs = ()
     needs_temperature = True
