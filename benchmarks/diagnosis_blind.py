@@ -546,6 +546,55 @@ def twelfth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirteenth_cases(models: list[str]) -> list[BlindCase]:
+    """A thirteenth blind set (issue 14), written and committed before any of it ran, with the
+    change that recalibrates only the model's own of two effects of the same physics
+    (``Effect.same_as``: the model's sensor lag and the generic lag on the same thermometer) and
+    gives its twin's slot to the next candidate; each case's result now holds its withheld
+    effects' trace in the record. Seeds 1501-1532; strengths, seasons and noise levels no
+    earlier set used (air cycling thermostats below the 46 degC at which earlier sets' cycling
+    left no trace); every effect of each model; two air sensor lags and both sensor time
+    constants (the cases the change is about); six null cases; three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 500.0}, seed=1501, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 35.0, "UALossPipe": 5.0}, seed=1502),
+        B(air, "sensor_lag", strength={"tauSensor": 550.0}, seed=1503),
+        B(air, "sensor_lag", strength={"tauSensor": 150.0}, seed=1504, noise_scale=1.3),
+        B(air, "post_run", strength={"tPostRun": 1000.0}, seed=1505),
+        B(air, "backup_heater", strength={"TOdaBackup": 276.15, "PBackup": 2000.0}, seed=1506, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4200.0, "tDefrost": 350.0, "fDefrostQ": 0.4}, seed=1507, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 314.15, "dTCycHys": 2.0, "tCycMinRun": 800.0, "tCycMinOff": 700.0}, seed=1508),
+        B(air, "clock_shift", shift_s=150.0, seed=1509),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.8, 1.0)}, seed=1510),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 450.0}, seed=1511),
+        B(w2w, "heat_loss", strength={"UALossGen": 320.0}, seed=1512),
+        B(w2w, "sensor_lag", strength={"tauSensor": 3300.0}, seed=1513),
+        B(w2w, "post_run", strength={"tPostRun": 1200.0}, seed=1514),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1600.0}, seed=1515),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 6000.0}, seed=1516, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2100.0, "tCycMinOff": 2100.0, "plrCycMin": 0.45}, seed=1517),
+        B(w2w, "clock_shift", shift_s=1200.0, seed=1518),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.7, 1.0)}, seed=1519),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 2700.0}, seed=1520),
+        # null cases
+        B(air, None, seed=1521),
+        B(air, None, seed=1522, noise_scale=1.4),
+        B(air, None, seed=1523, truth={"tauVolCon": synth.MODELS[air].tuners["tauVolCon"].lower}),
+        B(w2w, None, seed=1524),
+        B(w2w, None, seed=1525, scramble=True),
+        B(w2w, None, seed=1526, noise_scale=1.5),
+        # two effects at once
+        B(air, "start_up_lag", also=("post_run",), seed=1530, seasons=autumn),
+        B(air, "heat_loss", also=("sensor_lag",), seed=1531),
+        B(w2w, "post_run", also=("heat_loss",), seed=1532),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -584,6 +633,7 @@ def main() -> None:
     parser.add_argument("--tenth", action="store_true", help="the tenth blind set of issue 14, fixed before any was run (see tenth_cases)")
     parser.add_argument("--eleventh", action="store_true", help="the eleventh blind set of issue 14, fixed before any was run (see eleventh_cases)")
     parser.add_argument("--twelfth", action="store_true", help="the twelfth blind set of issue 14, fixed before any was run (see twelfth_cases)")
+    parser.add_argument("--thirteenth", action="store_true", help="the thirteenth blind set of issue 14, fixed before any was run (see thirteenth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -614,7 +664,7 @@ def main() -> None:
             else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth
             else ninth_cases(models) if args.ninth else tenth_cases(models) if args.tenth
             else eleventh_cases(models) if args.eleventh else twelfth_cases(models) if args.twelfth
-            else cases(models, args.quick))
+            else thirteenth_cases(models) if args.thirteenth else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
