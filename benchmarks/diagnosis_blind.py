@@ -682,14 +682,15 @@ def main() -> None:
         for case in todo:
             if case.label in traces or (args.traces == "pairs" and len(case.withheld) < 2) or case.effect is None:
                 continue
-            traces[case.label] = withheld_trace(case)
+            folder = _case_folder(root, case)
+            traces[case.label] = withheld_trace(case, folder / "measured.clean.parquet")
             print(f"{case.label:70s} " + ", ".join(f"{k} {v:.3g}" for k, v in traces[case.label].items()), flush=True)
             path.write_text(json.dumps(traces, indent=2))
         return
     results = []
     t0 = time.perf_counter()
     for case in todo:
-        folder = root / case.label.replace(":", "_").replace("(", "_").replace(")", "").replace(",", "_").replace("=", "")
+        folder = _case_folder(root, case)
         done = folder / "case_result.json"
         reuse = None
         if args.rediagnose:
@@ -725,6 +726,11 @@ def main() -> None:
     print()
     print(table(results))
     print(f"\n{len(results)} cases in {time.perf_counter() - t0:.0f} s; cases in {root}; load average {os.getloadavg()}")
+
+
+def _case_folder(root: Path, case: BlindCase) -> Path:
+    """Where a case's data, runs and result go under ``--out``."""
+    return root / case.label.replace(":", "_").replace("(", "_").replace(")", "").replace(",", "_").replace("=", "")
 
 
 TRACE = 0.1

@@ -133,12 +133,14 @@ def _model_effects(case: BlindCase) -> dict[str, dict[str, float]]:
     return effects
 
 
-def withheld_trace(case: BlindCase) -> dict[str, float]:
+def withheld_trace(case: BlindCase, clean_file: Path | None = None) -> dict[str, float]:
     """Per model effect ``case`` withholds, how far it moves the noise-free record: the largest,
     over the scored targets, of RMS(record with it - record without it) / the target's noise.
     Near 0 the data hold no trace of it, and no diagnosis can find it (a post-run in a winter
     record whose compressor never stops). A sensor effect is written onto the record and always
-    shows. Two noise-free simulations of the truth, a few seconds each."""
+    shows. One noise-free simulation of the truth per withheld effect, a few seconds each, and
+    one more unless ``clean_file`` (the case's ``measured.clean.parquet``) holds the record
+    with all of them."""
     shape = _WORKFLOW_SHAPE[case.model]
     effects = _model_effects(case)
     truth = {**BLIND_TUNERS[case.model], **case.truth}
@@ -153,7 +155,9 @@ def withheld_trace(case: BlindCase) -> dict[str, float]:
 
     import numpy as np
 
-    full = record(effects)
+    import pandas as pd
+
+    full = pd.read_parquet(clean_file) if clean_file is not None and Path(clean_file).is_file() else record(effects)
     out = {}
     for name in effects:
         without = record({k: v for k, v in effects.items() if k != name})
@@ -296,7 +300,7 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     t2 = time.perf_counter()
     # whether the record holds each withheld model effect at all (a start-up lag in a winter
     # record whose compressor never stops does not): the table counts such cases apart
-    trace = withheld_trace(case) if _model_effects(case) else {}
+    trace = withheld_trace(case, Path(workflow).parent / "measured.clean.parquet") if _model_effects(case) else {}
     ranking = result["ranking"]
     claimed = result["claimed"]
     recal = next((r for r in result["recalibration"] if r["effect"] == case.effect), {})
