@@ -641,19 +641,23 @@ def main() -> None:
     parser.add_argument("--shard", help="K/N: only every N-th case starting at the K-th (1-based), to split a set over processes")
     parser.add_argument("--reverse", action="store_true",
                         help="run the cases last first (a second process working towards one that runs them in order)")
-    parser.add_argument("--table", type=Path, metavar="BLIND_RESULTS_JSON",
-                        help="only print the table of a finished run's blind_results.json (with the traces.json beside it, if any)")
+    parser.add_argument("--table", type=Path, nargs="+", metavar="BLIND_RESULTS_JSON",
+                        help="only print the table of finished runs' blind_results.json (with the traces.json beside each, if any); "
+                             "several files: one table over all their cases")
     parser.add_argument("--traces", choices=("pairs", "all"),
                         help="only measure how far each withheld model effect moves the noise-free record (blind.withheld_trace) "
                              "for the set's cases with several effects (pairs) or every case (all); writes --out/traces.json")
     args = parser.parse_args()
     if args.table:
-        results = json.loads(args.table.read_text())
-        traces_file = args.table.parent / "traces.json"
-        traces = json.loads(traces_file.read_text()) if traces_file.is_file() else {}
-        for r in results:
-            if r["case"] in traces:
-                r["trace"] = traces[r["case"]]
+        results = []
+        for path in args.table:
+            these = json.loads(path.read_text())
+            traces_file = path.parent / "traces.json"
+            traces = json.loads(traces_file.read_text()) if traces_file.is_file() else {}
+            for r in these:
+                if r["case"] in traces:
+                    r["trace"] = traces[r["case"]]
+            results += these
         print(table(results))
         return
     root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
