@@ -169,6 +169,8 @@ class AroundSimulator(Simulator):
         self.options = inner.options
         self.context = inner.context
         self.own = parameter_names(self.entries)
+        # a lag or a shift needs the outputs of the warm-up too (see _with_warmup_outputs)
+        self.needs_history = any(isinstance(e, (OutputLag, OutputShift)) for e in self.entries)
 
     def variables(self) -> Mapping[str, Variable]:
         variables = dict(self.inner.variables())
@@ -219,8 +221,7 @@ class AroundSimulator(Simulator):
             # the key names the inputs: a simulator caches work derived from them under it
             changed = ",".join(f"{k}={v!r}" for k, v in sorted(own.items()))
             case = replace(case, inputs=inputs, key=f"{case.key}|around:{changed}")
-        with_history = any(isinstance(e, (OutputLag, OutputShift)) for e in self.entries)
-        case, warm = _with_warmup_outputs(case) if with_history else (case, 0)
+        case, warm = _with_warmup_outputs(case) if self.needs_history else (case, 0)
         result = dict(self.inner.simulate(inner_params, case, deadline))
         t = np.asarray(case.output_time, dtype=float)
         for e in self.entries:
