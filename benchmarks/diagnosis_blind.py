@@ -595,6 +595,53 @@ def thirteenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fourteenth_cases(models: list[str]) -> list[BlindCase]:
+    """A fourteenth blind set (issue 14), written and committed before any of it ran, for the
+    second pass after a modest claim (``recalibrate.second_pass_below``: when the best effect
+    of the first pass shrinks the gap beyond re-tuning alone by less than that, the next
+    candidates are recalibrated too). Seeds 1601-1632; strengths, seasons and noise levels no
+    earlier set used, within each effect's range; every effect of each model; six null cases;
+    three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 400.0}, seed=1601),
+        B(air, "heat_loss", strength={"UALossCon": 15.0, "UALossPipe": 15.0}, seed=1602),
+        B(air, "sensor_lag", strength={"tauSensor": 350.0}, seed=1603, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 250.0}, seed=1604, noise_scale=0.8),
+        B(air, "post_run", strength={"tPostRun": 700.0}, seed=1605),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.65, "PBackup": 4500.0}, seed=1606, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0, "tDefrost": 300.0, "fDefrostQ": 0.35}, seed=1607, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 312.15, "dTCycHys": 2.5, "tCycMinRun": 1000.0, "tCycMinOff": 600.0}, seed=1608),
+        B(air, "clock_shift", shift_s=240.0, seed=1609),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.45, 1.0)}, seed=1610),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 600.0}, seed=1611),
+        B(w2w, "heat_loss", strength={"UALossGen": 400.0}, seed=1612),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2400.0}, seed=1613),
+        B(w2w, "post_run", strength={"tPostRun": 1500.0}, seed=1614, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 700.0}, seed=1615),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 272.15, "PBackup": 8000.0}, seed=1616, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2400.0, "tCycMinOff": 2400.0, "plrCycMin": 0.5}, seed=1617),
+        B(w2w, "clock_shift", shift_s=900.0, seed=1618),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.5, 1.0)}, seed=1619),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 2200.0}, seed=1620),
+        # null cases
+        B(air, None, seed=1621),
+        B(air, None, seed=1622, noise_scale=1.6),
+        B(air, None, seed=1623, truth={"scaleHPPEl_nominal": synth.MODELS[air].tuners["scaleHPPEl_nominal"].upper}),
+        B(w2w, None, seed=1624),
+        B(w2w, None, seed=1625, scramble=True),
+        B(w2w, None, seed=1626, missing_fraction=0.1),
+        # two effects at once
+        B(air, "defrost", also=("sensor_lag",), seed=1630, seasons=winter),
+        B(air, "post_run", also=("heat_loss",), seed=1631),
+        B(w2w, "start_up_lag", also=("post_run",), seed=1632),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -634,6 +681,7 @@ def main() -> None:
     parser.add_argument("--eleventh", action="store_true", help="the eleventh blind set of issue 14, fixed before any was run (see eleventh_cases)")
     parser.add_argument("--twelfth", action="store_true", help="the twelfth blind set of issue 14, fixed before any was run (see twelfth_cases)")
     parser.add_argument("--thirteenth", action="store_true", help="the thirteenth blind set of issue 14, fixed before any was run (see thirteenth_cases)")
+    parser.add_argument("--fourteenth", action="store_true", help="the fourteenth blind set of issue 14, fixed before any was run (see fourteenth_cases)")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -668,7 +716,8 @@ def main() -> None:
             else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth
             else ninth_cases(models) if args.ninth else tenth_cases(models) if args.tenth
             else eleventh_cases(models) if args.eleventh else twelfth_cases(models) if args.twelfth
-            else thirteenth_cases(models) if args.thirteenth else cases(models, args.quick))
+            else thirteenth_cases(models) if args.thirteenth else fourteenth_cases(models) if args.fourteenth
+            else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
