@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from simgap.diagnosis.ranking import Candidate, _window_mean, explained_by_lag, max_shift_test, moves_switches
-from simgap.diagnosis.run import recalibration_choice
+from simgap.diagnosis.run import _settled, recalibration_choice
 from simgap.diagnosis.shrink import pinned, search_window
 from simgap.interfaces import EffectAddition
 
@@ -105,6 +105,25 @@ def test_of_two_effects_of_the_same_physics_only_the_models_own_is_recalibrated(
     for c in no_switch:
         c.twin_of = ""
     assert [c.name for c in recalibration_choice(no_switch, 3)] == ["generic_lag", "heater", "clock"]
+
+
+def test_a_modest_claim_leaves_room_for_the_second_pass():
+    def recalibrated(shrink, beyond, at_bounds=None):
+        c = _candidate("lag", 0.5, True)
+        c.confirm, c.min_shrink, c.gap_shrink, c.shrink_vs_control, c.p_vs_control = True, 0.2, shrink, beyond, 0.001
+        c.at_bounds = at_bounds or {}
+        return c
+
+    modest, strong, unconfirmed = recalibrated(0.7, 0.5), recalibrated(0.95, 0.9), recalibrated(0.1, 0.05)
+    assert modest.claimed and strong.claimed and not unconfirmed.claimed
+    # the default: a confirmed effect settles the first pass, however modest
+    assert _settled([modest, unconfirmed], 0.0)
+    assert not _settled([unconfirmed], 0.0)
+    # asked for more, a claim of 50 % beyond re-tuning leaves the next candidates their turn
+    assert not _settled([modest, unconfirmed], 0.8)
+    assert _settled([modest, strong], 0.8)
+    # a claim only at the bounds of its ranges never settles it
+    assert not _settled([recalibrated(0.95, 0.9, {"tau": 900.0})], 0.0)
 
 
 @pytest.mark.parametrize("value, expected", [(0.6, True), (0.605, True), (0.9, False), (1.399, True)])

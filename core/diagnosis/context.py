@@ -46,6 +46,10 @@ class Budget(BaseModel):
     second_pass: bool = True
     """When none of the recalibrated effects is confirmed, recalibrate the next ``candidates``
     significant ones once (the screening's order is a guess; the recalibration decides)."""
+    second_pass_below: float = Field(0.0, ge=0, le=1)
+    """Run the second pass also when the best confirmed effect shrinks the gap beyond re-tuning
+    alone by less than this (0: only when none is confirmed). A modest claim may be an effect
+    that makes up for part of the true one, which then never gets its recalibration."""
 
 
 class DiagnoseConfig(BaseModel):

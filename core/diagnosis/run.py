@@ -332,7 +332,7 @@ def diagnose(
         none = EffectAddition(switch={}, parameters=())
         control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance))
     _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
-    if chosen and ctx.config.recalibrate.second_pass and not any(c.claimed and not c.at_bounds for c in chosen):
+    if chosen and ctx.config.recalibrate.second_pass and not _settled(chosen, ctx.config.recalibrate.second_pass_below):
         # none of the first confirmed, or only with every effect parameter at a bound (of six
         # such claims on blind sets 5-8, four were wrong): the screening's share is a cheap guess
         # of which effect a recalibration would confirm, and it misleads where a tuner has made
@@ -341,7 +341,7 @@ def diagnose(
         # their bounds then shrank the gap 20 %): the next significant ones get their turn, once
         more = recalibration_choice([c for c in candidates if c not in chosen], budget, everyone=candidates)
         if more:
-            say("none of those confirmed (or only at the bounds of its ranges): recalibrating the next " + ", ".join(c.name for c in more))
+            say("none of those confirmed (or only at the bounds of its ranges, or by less than the second pass asks): recalibrating the next " + ", ".join(c.name for c in more))
             # a second look at the same data pays for itself: half the significance (Bonferroni
             # over the two passes), or the extra recalibrations add chance claims on null cases
             for cand in more:
@@ -385,6 +385,14 @@ def diagnose(
         "where": where,
         "timing": timing,
     }
+
+
+def _settled(chosen: list[Candidate], modest: float) -> bool:
+    """Whether the first pass settled the diagnosis: an effect of it confirmed, not only at the
+    bounds of its ranges, and (with ``modest`` > 0) shrinking the gap beyond re-tuning alone by
+    at least ``modest``."""
+    return any(c.claimed and not c.at_bounds and (c.shrink_vs_control if c.shrink_vs_control is not None else 1.0) >= modest
+               for c in chosen)
 
 
 def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Path, shrink: list[dict], say) -> None:
