@@ -116,10 +116,10 @@ def test_a_modest_claim_leaves_room_for_the_second_pass():
 
     modest, strong, unconfirmed = recalibrated(0.7, 0.5), recalibrated(0.95, 0.9), recalibrated(0.1, 0.05)
     assert modest.claimed and strong.claimed and not unconfirmed.claimed
-    # the default: a confirmed effect settles the first pass, however modest
+    # switched off (0): a confirmed effect settles the first pass, however modest
     assert _settled([modest, unconfirmed], 0.0)
     assert not _settled([unconfirmed], 0.0)
-    # asked for more, a claim of 50 % beyond re-tuning leaves the next candidates their turn
+    # at the default 0.8, a claim of 50 % beyond re-tuning leaves the next candidates their turn
     assert not _settled([modest, unconfirmed], 0.8)
     assert _settled([modest, strong], 0.8)
     # a claim only at the bounds of its ranges never settles it
