@@ -50,7 +50,7 @@ class Budget(BaseModel):
     """Run the second pass also when the best confirmed effect shrinks the gap beyond re-tuning
     alone by less than this (0: only when none is confirmed). A modest claim may be an effect
     that makes up for part of the true one, which then never gets its recalibration: paired on
-    the 40 stored blind cases of sets 9-14 with such a claim, 0.8 turned the wrong claims of two
+    the 57 stored blind cases of sets 7-14 with such a claim, 0.8 turned the wrong claims of two
     cases into the withheld sensor lag, and one right sensor offset into a heat loss
     (docs/diagnosis.md)."""
 
