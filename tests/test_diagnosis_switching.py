@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from simgap.diagnosis.ranking import Candidate, _window_mean, explained_by_lag, max_shift_test, moves_switches
-from simgap.diagnosis.run import _settled, recalibration_choice
+from simgap.diagnosis.run import _settled, may_take_the_lead, recalibration_choice
 from simgap.diagnosis.shrink import pinned, search_window
 from simgap.interfaces import EffectAddition
 
@@ -124,6 +124,25 @@ def test_a_modest_claim_leaves_room_for_the_second_pass():
     assert _settled([modest, strong], 0.8)
     # a claim only at the bounds of its ranges never settles it
     assert not _settled([recalibrated(0.95, 0.9, {"tau": 900.0})], 0.0)
+
+
+def test_a_physical_effect_does_not_take_the_lead_from_a_reading_error():
+    def confirmed(name, parameters, reading_error=False):
+        c = Candidate(name, "", "", applicable=True, significant=True, confirm=True, min_shrink=0.2,
+                      gap_shrink=0.4, shrink_vs_control=0.3, p_vs_control=0.001, reading_error=reading_error,
+                      addition=EffectAddition(switch={}, parameters=tuple(SimpleNamespace(name=p) for p in parameters)))
+        assert c.claimed
+        return c
+
+    offset = confirmed("sensor_offset_gain", ("offset_T", "gain_P"), reading_error=True)
+    loss, lag = confirmed("heat_loss", ("UALoss",)), confirmed("start_up_lag", ("tau",))
+    assert may_take_the_lead(offset, [loss]) is None
+    # an offset confirmed after a physical effect may still lead (one parameter each)
+    single_offset = confirmed("sensor_offset_gain", ("offset_T",), reading_error=True)
+    assert may_take_the_lead(loss, [single_offset]) is single_offset
+    # between physical effects the rule is unchanged: never the more complex one
+    assert may_take_the_lead(loss, [lag]) is lag
+    assert may_take_the_lead(lag, [confirmed("cycling", ("T", "dT"))]) is None
 
 
 @pytest.mark.parametrize("value, expected", [(0.6, True), (0.605, True), (0.9, False), (1.399, True)])
