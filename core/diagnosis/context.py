@@ -51,8 +51,9 @@ class Budget(BaseModel):
     alone by less than this (0: only when none is confirmed). A modest claim may be an effect
     that makes up for part of the true one, which then never gets its recalibration: paired on
     the 57 stored blind cases of sets 7-14 with such a claim, 0.8 turned the wrong claims of two
-    cases into the withheld sensor lag, and one right sensor offset into a heat loss
-    (docs/diagnosis.md)."""
+    cases into the withheld sensor lag; the one it turned from a sensor offset into a heat loss
+    is named as the offset again since a physical effect no longer takes the lead from a
+    better-confirmed reading error (docs/diagnosis.md)."""
 
 
 class DiagnoseConfig(BaseModel):
