@@ -642,6 +642,54 @@ def fourteenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fifteenth_cases(models: list[str]) -> list[BlindCase]:
+    """A fifteenth blind set (issue 14), written and committed before any of it ran, the first
+    with the current defaults throughout (the second pass after a modest claim,
+    ``recalibrate.second_pass_below: 0.8``, and a physical effect never taking the lead from a
+    better-confirmed reading error). Seeds 1701-1732; strengths, seasons and noise levels no
+    earlier set used, within each effect's range; every effect of each model, a gain on the
+    water-to-water power meter; six null cases (two tuners at a bound no set used); three
+    pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 320.0}, seed=1701),
+        B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 10.0}, seed=1702),
+        B(air, "sensor_lag", strength={"tauSensor": 220.0}, seed=1703),
+        B(air, "sensor_lag", strength={"tauSensor": 420.0}, seed=1704, noise_scale=1.2, seasons=autumn),
+        B(air, "post_run", strength={"tPostRun": 550.0}, seed=1705),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 3000.0}, seed=1706, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4800.0, "tDefrost": 350.0, "fDefrostQ": 0.6}, seed=1707, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 315.15, "dTCycHys": 3.5, "tCycMinRun": 700.0, "tCycMinOff": 800.0}, seed=1708),
+        B(air, "clock_shift", shift_s=360.0, seed=1709),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.55, 1.0)}, seed=1710),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 750.0}, seed=1711),
+        B(w2w, "heat_loss", strength={"UALossGen": 280.0}, seed=1712),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2250.0}, seed=1713),
+        B(w2w, "post_run", strength={"tPostRun": 2700.0}, seed=1714),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1100.0}, seed=1715, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 273.65, "PBackup": 10500.0}, seed=1716, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2700.0, "tCycMinOff": 2700.0, "plrCycMin": 0.35}, seed=1717),
+        B(w2w, "clock_shift", shift_s=1350.0, seed=1718),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.92)}, seed=1719),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 1600.0}, seed=1720),
+        # null cases
+        B(air, None, seed=1721),
+        B(air, None, seed=1722, noise_scale=1.2),
+        B(air, None, seed=1723, truth={"mCon_flow_nominal": synth.MODELS[air].tuners["mCon_flow_nominal"].upper}),
+        B(w2w, None, seed=1724),
+        B(w2w, None, seed=1725, noise_scale=0.7),
+        B(w2w, None, seed=1726, truth={"tankHD": synth.MODELS[w2w].tuners["tankHD"].lower}),
+        # two effects at once
+        B(air, "start_up_lag", also=("sensor_lag",), seed=1730),
+        B(air, "backup_heater", also=("post_run",), seed=1731, seasons=winter),
+        B(w2w, "heat_loss", also=("sensor_lag",), seed=1732),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -660,6 +708,15 @@ def _variant(model: str, effect: str, i: int) -> dict[str, float]:
     return {**base, name: value}
 
 
+BLIND_SETS = {
+    "unseen": unseen_cases, "fresh": fresh_cases, "fourth": fourth_cases, "fifth": fifth_cases, "sixth": sixth_cases,
+    "seventh": seventh_cases, "eighth": eighth_cases, "ninth": ninth_cases, "tenth": tenth_cases,
+    "eleventh": eleventh_cases, "twelfth": twelfth_cases, "thirteenth": thirteenth_cases,
+    "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases,
+}
+"""The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--models", default="air_source_hp,water_to_water_hp")
@@ -669,19 +726,8 @@ def main() -> None:
     parser.add_argument("--candidates", type=int, default=3)
     parser.add_argument("--workers", type=int, default=2, help="dask workers of each calibration (1-2 on a shared machine)")
     parser.add_argument("--combinations", action="store_true", help="only the cases that withhold two effects at once")
-    parser.add_argument("--unseen", action="store_true", help="the cases of issue 14, fixed before any was run (see unseen_cases)")
-    parser.add_argument("--fresh", action="store_true", help="the third blind set of issue 14, fixed before any was run (see fresh_cases)")
-    parser.add_argument("--fourth", action="store_true", help="the fourth blind set of issue 14, fixed before any was run (see fourth_cases)")
-    parser.add_argument("--fifth", action="store_true", help="the fifth blind set of issue 14, fixed before any was run (see fifth_cases)")
-    parser.add_argument("--sixth", action="store_true", help="the sixth blind set of issue 14, fixed before any was run (see sixth_cases)")
-    parser.add_argument("--seventh", action="store_true", help="the seventh blind set of issue 14, fixed before any was run (see seventh_cases)")
-    parser.add_argument("--eighth", action="store_true", help="the eighth blind set of issue 14, fixed before any was run (see eighth_cases)")
-    parser.add_argument("--ninth", action="store_true", help="the ninth blind set of issue 14, fixed before any was run (see ninth_cases)")
-    parser.add_argument("--tenth", action="store_true", help="the tenth blind set of issue 14, fixed before any was run (see tenth_cases)")
-    parser.add_argument("--eleventh", action="store_true", help="the eleventh blind set of issue 14, fixed before any was run (see eleventh_cases)")
-    parser.add_argument("--twelfth", action="store_true", help="the twelfth blind set of issue 14, fixed before any was run (see twelfth_cases)")
-    parser.add_argument("--thirteenth", action="store_true", help="the thirteenth blind set of issue 14, fixed before any was run (see thirteenth_cases)")
-    parser.add_argument("--fourteenth", action="store_true", help="the fourteenth blind set of issue 14, fixed before any was run (see fourteenth_cases)")
+    for name, make in BLIND_SETS.items():
+        parser.add_argument(f"--{name}", action="store_true", help=f"the blind set of issue 14 fixed before any of it ran (see {make.__name__})")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
@@ -710,14 +756,8 @@ def main() -> None:
         return
     root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
     models = args.models.split(",")
-    todo = (combination_cases(models) if args.combinations else unseen_cases(models) if args.unseen
-            else fresh_cases(models) if args.fresh else fourth_cases(models) if args.fourth
-            else fifth_cases(models) if args.fifth else sixth_cases(models) if args.sixth
-            else seventh_cases(models) if args.seventh else eighth_cases(models) if args.eighth
-            else ninth_cases(models) if args.ninth else tenth_cases(models) if args.tenth
-            else eleventh_cases(models) if args.eleventh else twelfth_cases(models) if args.twelfth
-            else thirteenth_cases(models) if args.thirteenth else fourteenth_cases(models) if args.fourteenth
-            else cases(models, args.quick))
+    chosen = [make for name, make in BLIND_SETS.items() if getattr(args, name)]
+    todo = (combination_cases(models) if args.combinations else chosen[0](models) if chosen else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
