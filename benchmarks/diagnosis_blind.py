@@ -887,6 +887,17 @@ def table(results: list[dict]) -> str:
         first, every = sum(r["top1"] for r in several), sum(r["top3"] for r in several)
         rows.append(f"| **all** | **several effects withheld** (top-1: first claim withheld; top-3: all claimed) | {len(several)} | "
                     f"**{first}/{len(several)}** | **{every}/{len(several)}** | | | | – |")
+        if all("withheld" in r for r in several):
+            from simgap.models.blind import same_physics
+
+            # each withheld effect claimed under its own name or as the same physics (the
+            # model's sensor lag and the lag around the simulator), in round 1 or in the chain
+            def every_same(r: dict) -> bool:
+                found = set(r["claimed"]) | set(r.get("chain", []))
+                return all(found & same_physics(w) for w in r["withheld"])
+
+            rows.append(f"| **all** | **several effects withheld, a generic effect of the same physics counted** (all claimed) | "
+                        f"{len(several)} | | **{sum(every_same(r) for r in several)}/{len(several)}** | | | | – |")
         traced = [r for r in several if "trace" in r]
         if traced:
             # a withheld effect that moves the noise-free record by under a tenth of the noise
