@@ -53,7 +53,7 @@ class Budget(BaseModel):
     the 57 stored blind cases of sets 7-14 with such a claim, 0.8 turned the wrong claims of two
     cases into the withheld sensor lag; the one it turned from a sensor offset into a heat loss
     is named as the offset again since a physical effect no longer takes the lead from a
-    better-confirmed reading error (docs/diagnosis.md)."""
+    better-confirmed reading error (docs/diagnosis_bench.md, fourteenth set)."""
 
 
 class DiagnoseConfig(BaseModel):
