@@ -909,7 +909,32 @@ def table(results: list[dict]) -> str:
                         f"**{sum(r['top3'] for r in seen)}/{len(seen)}** | | | | – |")
     if nulls:
         rows.append(f"| **all** | **null** | {len(nulls)} | | | | | | **{sum(bool(r['claimed']) for r in nulls)}** |")
+    precision = claim_precision(effects + nulls)
+    if precision:
+        # the reader's question: the diagnosis names X first; how often was X the truth?
+        rows += ["", "| first claim | claimed first (single-effect and null cases) | the withheld effect | the same physics |", "|---|---|---|---|"]
+        for name, (n, right, same) in sorted(precision.items(), key=lambda kv: -kv[1][0]):
+            rows.append(f"| {name} | {n} | {right}/{n} ({right / n:.0%}) | {same}/{n} ({same / n:.0%}) |")
+        n, right, same = (sum(v[k] for v in precision.values()) for k in range(3))
+        silent = sum(not r["claimed"] for r in effects)
+        rows.append(f"| **any** (and {silent} single-effect cases with no claim) | **{n}** | **{right}/{n} ({right / n:.0%})** | **{same}/{n} ({same / n:.0%})** |")
     return "\n".join(rows)
+
+
+def claim_precision(results: list[dict]) -> dict[str, tuple[int, int, int]]:
+    """Per effect claimed first: (cases, the withheld effect, the withheld effect's physics)."""
+    from simgap.models.blind import same_physics
+
+    out: dict[str, list[int]] = {}
+    for r in results:
+        if not r["claimed"]:
+            continue
+        first = r["claimed"][0]
+        counts = out.setdefault(first, [0, 0, 0])
+        counts[0] += 1
+        counts[1] += first == r["effect"]
+        counts[2] += bool(r["effect"]) and first in same_physics(r["effect"])
+    return {k: tuple(v) for k, v in out.items()}
 
 
 if __name__ == "__main__":
