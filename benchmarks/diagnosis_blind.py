@@ -690,6 +690,30 @@ def fifteenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def sixteenth_cases(models: list[str]) -> list[BlindCase]:
+    """A sixteenth blind set (issue 14), written and committed before any of it ran: the first
+    to withhold a gain error on a measured input (``BlindCase.input_gain``: the plant ran on the
+    true input, the model is fed the logged one), the one generic effect no earlier set
+    withheld. The air source's heating-circuit flow meter and the water-to-water plant's
+    pyranometer, each reading low and high; a pair with a heat loss; two null cases. Seeds
+    1801-1807."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.85}, seed=1801),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.2}, seed=1802, seasons=autumn),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 0.7}, seed=1803),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 1.3}, seed=1804),
+        # null cases
+        B(air, None, seed=1805),
+        B(w2w, None, seed=1806),
+        # two effects at once
+        B(air, "heat_loss", input_gain={"m_flowHC_kg_s": 0.9}, seed=1807),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -712,7 +736,7 @@ BLIND_SETS = {
     "unseen": unseen_cases, "fresh": fresh_cases, "fourth": fourth_cases, "fifth": fifth_cases, "sixth": sixth_cases,
     "seventh": seventh_cases, "eighth": eighth_cases, "ninth": ninth_cases, "tenth": tenth_cases,
     "eleventh": eleventh_cases, "twelfth": twelfth_cases, "thirteenth": thirteenth_cases,
-    "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases,
+    "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases, "sixteenth": sixteenth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 

@@ -426,3 +426,23 @@ def test_null_case_claims_nothing_and_cli_errors(tmp_path):
     assert bad.exit_code == 2 and "no evaluation with eval_id 99999" in bad.output
     bad = CliRunner().invoke(cli, ["diagnose", str(run_dir), "--effects", "nonsense", "--candidates", "0"])
     assert bad.exit_code == 2 and "unknown effect 'nonsense'" in bad.output
+
+
+def test_a_blind_input_gain_is_written_onto_the_logged_input_only(tmp_path):
+    import pandas as pd
+
+    from simgap.models.blind import _rewrite
+
+    path = tmp_path / "measured.parquet"
+    frame = pd.DataFrame({"time": pd.date_range("2024-01-01", periods=4, freq="h"),
+                          "m_flowHC_kg_s": [0.5, 0.4, 0.0, 0.6], "THCFlow_K": [308.0, 309.0, 300.0, 310.0]})
+    frame.to_parquet(path)
+    case = BlindCase("air_source_hp", "input_gain_error", input_gain={"m_flowHC_kg_s": 0.85}, seed=1)
+    assert case.withheld == ["input_gain_error"]
+    assert "m_flowHC_kg_s_logged_x0.85" in case.label
+    _rewrite(path, case, ["THCFlow_K"])
+    after = pd.read_parquet(path)
+    assert np.allclose(after["m_flowHC_kg_s"], 0.85 * frame["m_flowHC_kg_s"])
+    assert np.allclose(after["THCFlow_K"], frame["THCFlow_K"])  # the targets are as the plant ran
+    with pytest.raises(ValueError, match="no column 'nope'"):
+        _rewrite(path, BlindCase("air_source_hp", "input_gain_error", input_gain={"nope": 2.0}), ["THCFlow_K"])

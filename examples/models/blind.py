@@ -67,7 +67,7 @@ _WORKFLOW_SHAPE = {
 }
 
 
-SENSOR_EFFECTS = ("sensor_offset_gain", "sensor_time_constant", "clock_shift")
+SENSOR_EFFECTS = ("sensor_offset_gain", "sensor_time_constant", "clock_shift", "input_gain_error")
 """Withheld effects realised on the written data (a sensor's), not by a model switch."""
 
 _SEGMENTS = {"training": {"start": "2%", "end": "50%"}, "validation": {"start": "50%", "end": "100%"}}
@@ -91,6 +91,10 @@ class BlindCase:
     (``effect='sensor_time_constant'``)."""
     shift_s: float = 0.0
     """The logger's clock late by this many seconds on every target (``effect='clock_shift'``)."""
+    input_gain: Mapping[str, float] = field(default_factory=dict)
+    """Per measured input column, the factor by which its logged values differ from what the
+    plant saw (a flow meter or a pyranometer off by a factor): the plant ran on the true input,
+    the model is fed the logged one (``effect='input_gain_error'``)."""
     truth: Mapping[str, float] = field(default_factory=dict)
     """True tuner values replacing BLIND_TUNERS' (a tuner at its bound)."""
     scramble: bool = False
@@ -107,7 +111,8 @@ class BlindCase:
     @property
     def withheld(self) -> list[str]:
         out = ([self.effect] if self.effect else []) + list(self.also)
-        for name, present in (("sensor_offset_gain", self.sensor), ("sensor_time_constant", self.lag), ("clock_shift", self.shift_s)):
+        for name, present in (("sensor_offset_gain", self.sensor), ("sensor_time_constant", self.lag), ("clock_shift", self.shift_s),
+                              ("input_gain_error", self.input_gain)):
             if present and name not in out:
                 out.append(name)
         return out
@@ -118,6 +123,7 @@ class BlindCase:
         extra = ",".join([f"{k}={v:g}" for k, v in self.strength.items()]
                          + [f"{k}{o:+g}x{g:g}" for k, (o, g) in self.sensor.items()]
                          + [f"{k}tau{v:g}" for k, v in self.lag.items()] + ([f"shift{self.shift_s:g}s"] if self.shift_s else [])
+                         + [f"{k}_logged_x{g:g}" for k, g in self.input_gain.items()]
                          + [f"{k}={v:g}" for k, v in self.truth.items()] + (["noise-only"] if self.scramble else [])
                          + ([f"res{self.resolution:g}s"] if self.resolution else [])
                          + ([f"gaps{self.missing_fraction:g}"] if self.missing_fraction else []))
@@ -187,7 +193,7 @@ def write_case(case: BlindCase, folder: Path) -> Path:
         noise=noise,
         seed=case.seed,
     )
-    if case.sensor or case.lag or case.shift_s or case.scramble:
+    if case.sensor or case.lag or case.shift_s or case.scramble or case.input_gain:
         _rewrite(data.data_path, case, [name for name, _ in shape["targets"]])
     inputs = {name: name for name in spec.inputs}
     if case.model == "water_to_water_hp":
@@ -234,7 +240,7 @@ def write_case(case: BlindCase, folder: Path) -> Path:
 
 
 def _rewrite(path: Path, case: BlindCase, targets: list[str]) -> None:
-    """Effects of the sensors and the logger, written onto the measured file."""
+    """Effects of the sensors, the logger and the input meters, written onto the measured file."""
     import numpy as np
     import pandas as pd
 
@@ -254,6 +260,10 @@ def _rewrite(path: Path, case: BlindCase, targets: list[str]) -> None:
     for column, (offset, gain) in case.sensor.items():
         zero = 273.15 if column.endswith("_K") else 0.0
         frame[column] = zero + gain * (frame[column] - zero) + offset
+    for column, factor in case.input_gain.items():
+        if column not in frame:
+            raise ValueError(f"input_gain: no column {column!r} in {path.name}")
+        frame[column] = factor * frame[column]
     if case.scramble:
         rng = np.random.default_rng(case.seed + 1000)
         for column in targets:
