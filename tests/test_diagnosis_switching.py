@@ -189,3 +189,24 @@ def test_a_withheld_effect_without_a_trace_in_the_record_is_measured_as_such():
     winter = ("winter", "winter", "winter", "winter")
     trace = withheld_trace(BlindCase("air_source_hp", "backup_heater", also=("post_run",), seed=1230, seasons=winter))
     assert trace["post_run"] < 0.01 and trace["backup_heater"] > 10.0, trace
+
+
+def test_minimum_speed_is_running_where_the_unit_is_seldom_off():
+    # an inverter unit off for 1 % of the time, otherwise at its minimum speed (450 W, the
+    # meter's noise 10 W) or above: the 2nd percentile is the minimum speed, and a cut above it
+    # counted the noise on that plateau as starts and stops
+    from simgap.diagnosis.context import running_level, standby_level, two_state
+    from simgap.diagnosis.where import cycles
+
+    rng = np.random.default_rng(3)
+    n = 6000
+    power = np.where(np.arange(n) % 2000 < 700, 450.0, 1400.0) + 10.0 * rng.normal(size=n)
+    power[2980:3040] = 12.0 + 5.0 * rng.normal(size=60)  # one stop of 60 samples
+    assert two_state(power)
+    assert abs(standby_level(power) - 12.0) < 3.0
+    state = running_level(power, on_off=True) > 0.05
+    assert state[:2980].all() and not state[2980:3040].any() and state[3040:].all()
+    seconds = 60.0 * np.arange(n)
+    assert cycles(state, seconds, np.zeros(n, dtype=int))["starts"] == 1
+    # and where there is no standby cluster at all, nothing is off
+    assert standby_level(np.full(100, 800.0) + rng.normal(size=100)) == 0.0

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..interfaces import Effect, EffectAddition
-from .context import Context, simulate
+from .context import Context, running_level, simulate, standby_level
 from .shrink import noise_sigma
 
 
@@ -505,7 +505,7 @@ def moves_switches(ctx: Context, data, change: dict[str, np.ndarray]) -> bool:
     if not ok.any():
         return False
     # the same standby threshold for both, from the base simulation
-    low, high = float(np.nanpercentile(base, 2)), float(np.nanpercentile(base, 95))
+    low, high = standby_level(base), float(np.nanpercentile(base, 95))
     if not high > low:
         return False
     cut = low + 0.15 * (high - low)
@@ -517,7 +517,6 @@ def count_starts(ctx: Context, data, power: np.ndarray) -> int:
     median of five samples against sensor flicker, off below 15 % of the span)."""
     import pandas as pd
 
-    from .context import running_level
     from .where import cycles
 
     raw = pd.Series(np.asarray(power, dtype=float)).rolling(5, center=True, min_periods=1).median()
