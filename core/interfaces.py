@@ -403,6 +403,15 @@ class Effect(ABC):
     the other's recalibration on the next candidate: the two fit alike and the tie goes to the
     model's own anyway."""
 
+    alternatives: ClassVar[bool] = False
+    """True when each of the effect's parameters is a cause of its own (a gain error on each
+    measured input: one meter is off, not all at once). The screening then tries each
+    parameter alone and no joint settings, and the recalibration adds only the parameter of
+    the setting that explained the residual best (with the ``around`` entries that name it):
+    gains on five inputs searched together traded off against each other, and a flow meter's
+    gain, found at 1.175 for a true 1/0.85, came with gains on the fan, the compressor signal
+    and the humidity that made the fit worse than none."""
+
     def applies(self, data: DiagnosisData) -> str | None:
         """None if the effect can be tested on this model and data, else why not."""
         return None

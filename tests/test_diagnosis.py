@@ -446,3 +446,21 @@ def test_a_blind_input_gain_is_written_onto_the_logged_input_only(tmp_path):
     assert np.allclose(after["THCFlow_K"], frame["THCFlow_K"])  # the targets are as the plant ran
     with pytest.raises(ValueError, match="no column 'nope'"):
         _rewrite(path, BlindCase("air_source_hp", "input_gain_error", input_gain={"nope": 2.0}), ["THCFlow_K"])
+
+
+def test_the_verdict_names_an_effect_beyond_re_tuning_but_not_beyond_chance():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+
+    gain = Candidate("input_gain_error", "", "", True, significant=True, confirm=True, min_shrink=0.2)
+    gain.gap_shrink, gain.shrink_vs_control, gain.p_vs_control = 0.88, 0.60, 0.11
+    assert gain.undecided and not gain.claimed
+    text = verdict([gain], control_shrink=0.1)
+    assert text.startswith("no confirmed unmodelled effect; undecided on this record: input_gain_error "
+                           "(with it the gap shrinks 88%, beyond re-tuning 60%, but p = 0.11 against re-tuning alone)")
+    # significant against the control: claimed, not undecided
+    gain.p_vs_control = 0.01
+    assert gain.claimed and not gain.undecided
+    # under the threshold beyond re-tuning: like re-tuning, not undecided
+    gain.p_vs_control, gain.shrink_vs_control = 0.11, 0.05
+    assert not gain.undecided and gain.like_retuning

@@ -210,3 +210,24 @@ def test_minimum_speed_is_running_where_the_unit_is_seldom_off():
     assert cycles(state, seconds, np.zeros(n, dtype=int))["starts"] == 1
     # and where there is no standby cluster at all, nothing is off
     assert standby_level(np.full(100, 800.0) + rng.normal(size=100)) == 0.0
+
+
+def test_an_effect_of_alternatives_adds_only_the_best_screened_parameter():
+    from simgap.diagnosis.ranking import effect_settings, only_the_best_alternative
+    from simgap.interfaces import EffectParameter
+
+    params = tuple(EffectParameter(f"inputGain_{n}", 1.0, 0.6, 1.4, neutral=1.0) for n in ("fan", "flow", "speed", "rh"))
+    around = tuple({"apply": "input_gain", "variable": n, "gain": f"inputGain_{n}"} for n in ("fan", "flow", "speed", "rh"))
+    addition = EffectAddition(switch={}, parameters=params, around=around)
+    # each of the four inputs alone (not only the first three), and no joint settings
+    settings = effect_settings(addition, per_parameter=len(params), joint=0)
+    assert len(settings) == 1 + 2 * 4
+    assert all(sum(v != 1.0 for v in s.values()) <= 1 for s in settings)
+    responses = [(s, {"T": np.full(3, float(k))}) for k, s in enumerate(settings)]
+    best = next(k for k, s in enumerate(settings) if s["inputGain_flow"] != 1.0)
+    narrowed, kept, index = only_the_best_alternative(addition, responses, best)
+    assert [p.name for p in narrowed.parameters] == ["inputGain_flow"]
+    assert [e["variable"] for e in narrowed.around] == ["flow"]
+    # the typical setting and the flow's two settings stay, each with the flow's gain only
+    assert [set(s) for s, _ in kept] == [{"inputGain_flow"}] * 3
+    assert kept[index][1]["T"][0] == float(best)

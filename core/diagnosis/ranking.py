@@ -144,6 +144,16 @@ class Candidate:
         return (self.significant and not self.claimed and self.gap_shrink is not None and self.gap_shrink >= self.min_shrink
                 and confirming is not None and confirming < self.min_shrink)
 
+    @property
+    def undecided(self) -> bool:
+        """Recalibrated, beyond re-tuning by the confirmation threshold, but not distinguished
+        from chance on this record (the paired test against the control above its p-value): a
+        longer validation record would decide. Not claimed, and not nothing either."""
+        return (not self.claimed and self.gap_shrink is not None and self.shrink_vs_control is not None
+                and self.shrink_vs_control >= self.min_shrink and self.gap_shrink >= self.min_shrink
+                and self.p_vs_control is not None and self.p_vs_control > self.confirm_significance
+                and (self.beyond_first is None or self.beyond_first >= self.min_shrink))
+
     def as_dict(self) -> dict:
         return {
             "name": self.name,
@@ -453,11 +463,37 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int
     return settings
 
 
-def effect_responses(ctx: Context, addition: EffectAddition) -> list[tuple[dict[str, float], dict[str, np.ndarray]]]:
-    """(setting, simulated change of every target with the effect switched on) per setting."""
+def only_the_best_alternative(addition: EffectAddition, responses: list, best: int) -> tuple[EffectAddition, list, int]:
+    """For an effect whose parameters are alternative causes: the addition with only the
+    parameters the best setting moves (and the ``around`` entries that name one of them), the
+    settings that move nothing else, and the best one's index among them."""
+    import dataclasses
+
+    values = responses[best][0]
+    kept = {p.name for p in addition.parameters if values.get(p.name, p.default) != p.default}
+    if not kept or len(kept) == len(addition.parameters):
+        return addition, responses, best
+    around = tuple(e for e in addition.around if not _names_parameters(e, addition) or _names_parameters(e, addition) & kept)
+    narrowed = dataclasses.replace(addition, parameters=tuple(p for p in addition.parameters if p.name in kept), around=around)
+    others = {p.name: p.default for p in addition.parameters if p.name not in kept}
+    chosen = [k for k, (setting, _) in enumerate(responses) if all(setting.get(n, d) == d for n, d in others.items())]
+    trimmed = [({n: v for n, v in responses[k][0].items() if n in kept}, responses[k][1]) for k in chosen]
+    return narrowed, trimmed, chosen.index(best)
+
+
+def _names_parameters(entry, addition: EffectAddition) -> set[str]:
+    """The effect parameters an ``around`` entry names (its values are tuner names)."""
+    names = {p.name for p in addition.parameters}
+    return {v for v in entry.values() if isinstance(v, str) and v in names}
+
+
+def effect_responses(ctx: Context, addition: EffectAddition, alternatives: bool = False) -> list[tuple[dict[str, float], dict[str, np.ndarray]]]:
+    """(setting, simulated change of every target with the effect switched on) per setting.
+    ``alternatives`` (:attr:`simgap.Effect.alternatives`): every parameter alone, nothing jointly."""
     base = ctx.joined("simulated")
     out = []
-    for values in effect_settings(addition):
+    settings = effect_settings(addition, per_parameter=len(addition.parameters), joint=0) if alternatives else effect_settings(addition)
+    for values in settings:
         series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values}, addition)
         if series is not None:
             out.append((values, {t: series[t] - base[t] for t in ctx.targets}))
@@ -699,7 +735,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             continue
         features = dict(effect.signature(data))
         cand.addition = addition
-        cand.responses = effect_responses(ctx, addition) if addition is not None else []
+        alternatives = bool(getattr(effect, "alternatives", False))
+        cand.responses = effect_responses(ctx, addition, alternatives) if addition is not None else []
         responses = [change for _, change in cand.responses]
         moved = [moves_switches(ctx, data, change) for change in responses]
         best_target_share = best_envelope_share = -math.inf
@@ -784,6 +821,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
                 if not cand.envelope_significant:
                     # the recalibration starts at the setting that cycles like the record
                     cand.best_setting = settings[best]
+        if alternatives and cand.best_setting is not None:
+            cand.addition, cand.responses, cand.best_setting = only_the_best_alternative(cand.addition, cand.responses, cand.best_setting)
         cand.min_shrink = config.min_shrink
         cand.min_share = config.min_share
         cand.confirm_significance = config.confirm_significance

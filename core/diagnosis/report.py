@@ -148,8 +148,10 @@ def _no_regimes(ctx) -> str:
 
 
 def verdict(candidates, control_shrink: float | None = None) -> str:
-    """Confirmed effects with their shrink; then those whose recalibration only matched re-tuning
-    because a tuner makes the same change (``Candidate.like_retuning``); then significant ones this
+    """Confirmed effects with their shrink; then those that shrank the gap beyond re-tuning but
+    not beyond chance on this record (``Candidate.undecided``); then those whose recalibration
+    only matched re-tuning because a tuner makes the same change (``Candidate.like_retuning``);
+    then significant ones this
     model cannot take (and what would test them); else nothing found. Where nothing is confirmed
     but re-tuning alone (the control, ``control_shrink``) shrinks the validation gap by at least
     the confirmation threshold, the calibration itself was short of its optimum, and the verdict
@@ -162,6 +164,7 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
     more = len(possible) - 3
     possible = possible[:3]
     alike = [c for c in candidates if c.applicable and c.like_retuning][:2]
+    undecided = [c for c in candidates if c.applicable and c.undecided][:2]
     parts = []
     if claimed:
         def shrink(c):
@@ -183,12 +186,17 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
         if len(claimed) > 1:
             parts.append("also confirmed: " + ", ".join(c.name + shrink(c) for c in claimed[1:]))
     else:
-        parts.append("no significant unmodelled effect" if not possible and not alike else "no confirmed unmodelled effect")
+        parts.append("no significant unmodelled effect" if not possible and not alike and not undecided else "no confirmed unmodelled effect")
         threshold = max((c.min_shrink for c in candidates), default=0.2)  # the screened ones carry the setting
         if control_shrink is not None and control_shrink == control_shrink and control_shrink >= threshold:
             parts.append(f"re-tuning without any effect shrinks the validation gap by {control_shrink:.0%} or more (the control, "
                          "part 3): the calibration stopped short of its optimum; run it longer, or from the control's solution, "
                          "before trusting it")
+    if undecided:
+        parts.append("undecided on this record: " + "; ".join(
+            f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}, "
+            f"but p = {c.p_vs_control:.2g} against re-tuning alone)" for c in undecided)
+            + ": a longer validation record would decide")
     if alike:
         def like(c):
             share, tuner, target = c.reproduced()

@@ -147,6 +147,7 @@ class InputGainError(_Around):
     name = "input_gain_error"
     description = "a measured input fed to the model is off by a factor (a meter's calibration, a wrong conversion)"
     evidence = "the residual grows in proportion to an input (solar or internal gains, a flow, a control signal)"
+    alternatives = True  # one meter is off, not every input at once
 
     @staticmethod
     def _inputs(data):
