@@ -419,6 +419,10 @@ def operation(ctx: "Context") -> str:
     return "on/off" if two_state(values) else "modulating"
 
 
+STANDBY = 0.1
+"""A unit's standby cluster: power at most this share of its 95th percentile."""
+
+
 def two_state(values: np.ndarray) -> bool:
     """True if a power or control series is really on/off: a standby cluster near zero (at most
     10 % of the 95th percentile), holding at least 1 % of the samples, separated by a gap (the
@@ -431,8 +435,8 @@ def two_state(values: np.ndarray) -> bool:
     high = float(np.percentile(v, 95))
     if not high > 0:
         return False
-    off = np.mean(v <= 0.1 * high)
-    gap = np.mean((v > 0.1 * high) & (v <= 0.2 * high))
+    off = np.mean(v <= STANDBY * high)
+    gap = np.mean((v > STANDBY * high) & (v <= 2 * STANDBY * high))
     return bool(off >= 0.01 and gap < 0.2 * off)
 
 
@@ -466,7 +470,7 @@ def standby_level(power: np.ndarray) -> float:
     if v.size == 0:
         return 0.0
     high = float(np.percentile(v, 95))
-    off = v[v <= 0.1 * high]
+    off = v[v <= STANDBY * high]
     return float(np.median(off)) if off.size else 0.0
 
 

@@ -473,7 +473,8 @@ def only_the_best_alternative(addition: EffectAddition, responses: list, best: i
     kept = {p.name for p in addition.parameters if values.get(p.name, p.default) != p.default}
     if not kept or len(kept) == len(addition.parameters):
         return addition, responses, best
-    around = tuple(e for e in addition.around if not _names_parameters(e, addition) or _names_parameters(e, addition) & kept)
+    named = [(_names_parameters(e, addition), e) for e in addition.around]
+    around = tuple(e for names, e in named if not names or names & kept)
     narrowed = dataclasses.replace(addition, parameters=tuple(p for p in addition.parameters if p.name in kept), around=around)
     others = {p.name: p.default for p in addition.parameters if p.name not in kept}
     chosen = [k for k, (setting, _) in enumerate(responses) if all(setting.get(n, d) == d for n, d in others.items())]

@@ -151,10 +151,11 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
     """Confirmed effects with their shrink; then those that shrank the gap beyond re-tuning but
     not beyond chance on this record (``Candidate.undecided``); then those whose recalibration
     only matched re-tuning because a tuner makes the same change (``Candidate.like_retuning``);
-    then significant ones this model cannot take (and what would test them); else nothing found. Where nothing is confirmed
-    but re-tuning alone (the control, ``control_shrink``) shrinks the validation gap by at least
-    the confirmation threshold, the calibration itself was short of its optimum, and the verdict
-    says that first: it is the first thing to fix before any effect is looked for."""
+    then significant ones this model cannot take (and what would test them); else nothing found.
+    Where nothing is confirmed but re-tuning alone (the control, ``control_shrink``) shrinks the
+    validation gap by at least the confirmation threshold, the calibration itself was short of
+    its optimum, and the verdict says that first: it is the first thing to fix before any effect
+    is looked for."""
     claimed = [c for c in candidates if c.claimed]
     named = {c.name for c in claimed}
     # a switch effect whose generic counterpart is confirmed adds nothing to the verdict
