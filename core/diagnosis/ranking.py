@@ -17,6 +17,7 @@ circular shifts keep the features' Gram matrix, all lags cost one FFT per featur
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -467,8 +468,6 @@ def only_the_best_alternative(addition: EffectAddition, responses: list, best: i
     """For an effect whose parameters are alternative causes: the addition with only the
     parameters the best setting moves (and the ``around`` entries that name one of them), the
     settings that move nothing else, and the best one's index among them."""
-    import dataclasses
-
     values = responses[best][0]
     kept = {p.name for p in addition.parameters if values.get(p.name, p.default) != p.default}
     if not kept or len(kept) == len(addition.parameters):

@@ -223,11 +223,11 @@ def may_take_the_lead(first: Candidate, others: list[Candidate]) -> Candidate | 
     """The further confirmed effect that the reverse test (``first`` on top of it) may put in
     the lead: the first claimed one with no more parameters than ``first`` (a flexible offset
     and gain on two targets took up most of what a real start-up lag explains: the lag added 6 %
-    on top of them, 35 % beyond re-tuning alone), and never a
-    physical effect in place of a reading error that was confirmed better. Where the two are
-    confounded, the reading error is the claim that asks less of the plant: a -0.4 K supply
-    offset (33 % beyond re-tuning) lost the lead to a heat loss (27 %) that mimicked it, the
-    offset on top of the loss adding 7 % in a recalibration that stopped short."""
+    on top of them, 35 % beyond re-tuning alone), and never a physical effect in place of a
+    reading error that was confirmed better. Where the two are confounded, the reading error is
+    the claim that asks less of the plant: a -0.4 K supply offset (33 % beyond re-tuning) lost
+    the lead to a heat loss (27 %) that mimicked it, the offset on top of the loss adding 7 % in
+    a recalibration that stopped short."""
     return next((c for c in others if c.claimed and len(c.addition.parameters) <= len(first.addition.parameters)
                  and not (first.reading_error and not c.reading_error)), None)
 
