@@ -714,6 +714,53 @@ def sixteenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def seventeenth_cases(models: list[str]) -> list[BlindCase]:
+    """A seventeenth blind set (issue 14), written and committed before any of it ran, the first
+    with the standby level taken from the standby cluster and each input's gain screened alone
+    (``Effect.alternatives``). Seeds 1901-1932; strengths, seasons and noise levels no earlier
+    set used, within each effect's range; every effect of each model and every generic one,
+    with a time constant on the water-to-water power meter and a gain on the air-source flow
+    meter; six null cases (two tuners at a bound no set used); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=1901),
+        B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 18.0}, seed=1902, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 300.0}, seed=1903, noise_scale=1.3),
+        B(air, "post_run", strength={"tPostRun": 700.0}, seed=1904),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 5000.0}, seed=1905, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3600.0, "tDefrost": 450.0, "fDefrostQ": 0.8}, seed=1906, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 320.15, "dTCycHys": 6.0, "tCycMinRun": 900.0, "tCycMinOff": 1200.0}, seed=1907),
+        B(air, "clock_shift", shift_s=540.0, seed=1908),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.1)}, seed=1909),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 500.0}, seed=1910),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.15}, seed=1911),
+        B(w2w, "heat_loss", strength={"UALossGen": 450.0}, seed=1912),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1500.0}, seed=1913),
+        B(w2w, "post_run", strength={"tPostRun": 1800.0}, seed=1914, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 650.0}, seed=1915),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 275.15, "PBackup": 7000.0}, seed=1916, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 3000.0, "plrCycMin": 0.55}, seed=1917),
+        B(w2w, "clock_shift", shift_s=2400.0, seed=1918),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.7, 1.0)}, seed=1919),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 1200.0}, seed=1920),
+        # null cases
+        B(air, None, seed=1921),
+        B(air, None, seed=1922, noise_scale=1.4, missing_fraction=0.05),
+        B(air, None, seed=1923, truth={"lambdaIns": synth.MODELS[air].tuners["lambdaIns"].lower}),
+        B(w2w, None, seed=1924),
+        B(w2w, None, seed=1925, noise_scale=1.2),
+        B(w2w, None, seed=1926, truth={"nInf_1_h": synth.MODELS[w2w].tuners["nInf_1_h"].upper}),
+        # two effects at once
+        B(air, "sensor_lag", also=("post_run",), seed=1930),
+        B(air, "defrost", also=("heat_loss",), seed=1931, seasons=winter),
+        B(w2w, "post_run", also=("backup_heater",), seed=1932, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -737,6 +784,7 @@ BLIND_SETS = {
     "seventh": seventh_cases, "eighth": eighth_cases, "ninth": ninth_cases, "tenth": tenth_cases,
     "eleventh": eleventh_cases, "twelfth": twelfth_cases, "thirteenth": thirteenth_cases,
     "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases, "sixteenth": sixteenth_cases,
+    "seventeenth": seventeenth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
