@@ -812,6 +812,7 @@ def main() -> None:
                              "several files: one table over all their cases")
     parser.add_argument("--traces", choices=("pairs", "all"),
                         help="only measure how far each withheld model effect moves the noise-free record (blind.withheld_trace) "
+                             "and each logged input's gain the model's prediction (blind.input_gain_trace) "
                              "for the set's cases with several effects (pairs) or every case (all); writes --out/traces.json")
     args = parser.parse_args()
     if args.table:
@@ -839,7 +840,7 @@ def main() -> None:
     if args.reverse:
         todo = todo[::-1]
     if args.traces:
-        from simgap.models.blind import withheld_trace
+        from simgap.models.blind import input_gain_trace, withheld_trace
 
         root.mkdir(parents=True, exist_ok=True)
         path = root / "traces.json"
@@ -849,6 +850,8 @@ def main() -> None:
                 continue
             folder = _case_folder(root, case)
             traces[case.label] = withheld_trace(case, folder / "measured.clean.parquet")
+            if case.input_gain:  # the model fed the logged input against the true one
+                traces[case.label]["input_gain_error"] = max(input_gain_trace(case, folder).values())
             print(f"{case.label:70s} " + ", ".join(f"{k} {v:.3g}" for k, v in traces[case.label].items()), flush=True)
             path.write_text(json.dumps(traces, indent=2))
         return

@@ -448,6 +448,20 @@ def test_a_blind_input_gain_is_written_onto_the_logged_input_only(tmp_path):
         _rewrite(path, BlindCase("air_source_hp", "input_gain_error", input_gain={"nope": 2.0}), ["THCFlow_K"])
 
 
+def test_an_input_gain_trace_is_what_the_logged_input_moves_the_model_by(tmp_path):
+    from simgap.models.blind import input_gain_trace, write_case
+
+    def trace(factor):
+        case = BlindCase("water_to_water_hp", "input_gain_error", input_gain={"HGloHor_W_m2": factor}, seed=3, days=4)
+        folder = tmp_path / f"x{factor:g}"
+        write_case(case, folder)
+        return input_gain_trace(case, folder)["HGloHor_W_m2"]
+
+    assert trace(1.0) == 0.0  # the logged input is the true one
+    low, high = trace(0.7), trace(0.4)
+    assert 0.5 < low < high  # noise sigmas: a pyranometer reading low moves the supply temperature
+
+
 def test_the_verdict_names_an_effect_beyond_re_tuning_but_not_beyond_chance():
     from simgap.diagnosis.ranking import Candidate
     from simgap.diagnosis.report import verdict

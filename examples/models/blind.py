@@ -172,6 +172,55 @@ def withheld_trace(case: BlindCase, clean_file: Path | None = None) -> dict[str,
     return out
 
 
+def input_gain_trace(case: BlindCase, folder: Path) -> dict[str, float]:
+    """Per logged input ``case`` writes off by a factor, how far the error moves the model's
+    prediction on the training segment: the largest, over the scored targets, of RMS(the base
+    model at the true parameters fed the true input - fed the logged one) / the target's noise.
+    The trace of ``input_gain_error`` as ``withheld_trace`` measures a model effect's: near 0,
+    the model's other inputs and tuners take the error up and no diagnosis can tell it (a
+    pyranometer in a winter record). Two simulations per input, from the case's own workflow
+    and measured file in ``folder`` (``write_case``)."""
+    import numpy as np
+    import pandas as pd
+
+    from simgap.evaluation import STATUS_OK, evaluate
+    from simgap.setup import prepare
+
+    folder = Path(folder)
+    shape = _WORKFLOW_SHAPE[case.model]
+    noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
+    truth = {**BLIND_TUNERS[case.model], **case.truth}
+    yaml = YAML()
+
+    def simulated(workflow: Path) -> dict[str, np.ndarray]:
+        prepared = prepare(workflow)
+        try:
+            params = {name: float(truth[name]) for name in prepared.space.names}
+            row = evaluate(prepared.training, 0, params, keep_series=True)
+        finally:
+            prepared.simulator.close()
+        if row["status"] != STATUS_OK:
+            raise RuntimeError(f"{workflow.name}: the true parameters failed: {row['error']}")
+        return {name: np.asarray(values, dtype=float) for name, values in row["series"].items()}
+
+    logged = simulated(folder / "workflow.yaml")
+    out = {}
+    for column, factor in case.input_gain.items():
+        doc = yaml.load((folder / "workflow.yaml").read_text())
+        frame = pd.read_parquet(folder / doc["data"]["file"])
+        frame[column] = frame[column] / factor
+        true_file = folder / f"measured.true_{column}.parquet"
+        frame.to_parquet(true_file)
+        doc["data"]["file"] = true_file.name
+        true_workflow = folder / f"workflow.true_{column}.yaml"
+        with true_workflow.open("w") as f:
+            yaml.dump(doc, f)
+        fed_true = simulated(true_workflow)
+        out[column] = max(float(np.sqrt(np.nanmean((fed_true[t] - logged[t]) ** 2))) / sigma for t, sigma in noise.items()
+                          if t in logged)
+    return out
+
+
 def write_case(case: BlindCase, folder: Path) -> Path:
     """Write the measured data and the base-model workflow of ``case``; returns the workflow path."""
     folder = Path(folder)
