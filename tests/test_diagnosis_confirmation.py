@@ -79,6 +79,21 @@ def test_near_the_floor_confirmation_is_measured_against_the_original_gap():
     assert _versus(effect, control, {"T": 1.0})[1] == 0.0
 
 
+def test_an_original_gap_within_the_noise_counts_as_one_noise_variance():
+    # a null case: the diagnosed solution 0.0589 K over a 0.0504 K floor (a gap of 0.37 noise
+    # variances), the control 0.0540 K, an on-delay 0.0514 K: 29 % of that small gap, but 0.11
+    # of a noise variance, no finding
+    control = {"T": _above(0.0589, 0.0540, 0.0504)}
+    effect = {"T": _above(0.0589, 0.0514, 0.0504)}
+    share = _versus(effect, control, {"T": 1.0})[1]
+    assert share == pytest.approx((0.0540**2 - 0.0514**2) / 0.0504**2)
+    assert share < 0.2 < (0.0540**2 - 0.0514**2) / (0.0589**2 - 0.0504**2)
+    # the same removal from an original gap of one noise variance and more is measured on it
+    control = {"T": _above(0.0713, 0.0540, 0.0504)}
+    effect = {"T": _above(0.0713, 0.0514, 0.0504)}
+    assert _versus(effect, control, {"T": 1.0})[1] == pytest.approx((0.0540**2 - 0.0514**2) / (0.0713**2 - 0.0504**2))
+
+
 def test_a_gap_the_control_leaves_well_above_the_noise_is_the_measure():
     # re-tuning imitates a sensor lag in part (0.435 K -> 0.18 K), the lag takes it to 0.038 K
     # over a 0.014 K floor: most of what the control left, a clear finding
