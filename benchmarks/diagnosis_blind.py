@@ -761,6 +761,54 @@ def seventeenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def eighteenth_cases(models: list[str]) -> list[BlindCase]:
+    """An eighteenth blind set (issue 14), written and committed before any of it ran, the first
+    with an original gap within the noise counted as one noise variance (``shrink._versus``).
+    Seeds 2001-2032; strengths, seasons and noise levels no earlier set used, several of them
+    weak (the rule must not lose small true effects); every effect of each model and every
+    generic one, with an offset on the air-source flow thermometer, a time constant on its power
+    meter and a gain on the water-to-water power meter; six null cases (a tuner at each model's
+    bound, less noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 210.0}, seed=2001, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 8.0}, seed=2002, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 140.0}, seed=2003),
+        B(air, "post_run", strength={"tPostRun": 420.0}, seed=2004, noise_scale=1.2),
+        B(air, "backup_heater", strength={"TOdaBackup": 276.15, "PBackup": 2500.0}, seed=2005, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 5400.0, "tDefrost": 240.0, "fDefrostQ": 0.5}, seed=2006, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 312.15, "dTCycHys": 3.0, "tCycMinRun": 420.0, "tCycMinOff": 600.0}, seed=2007),
+        B(air, "clock_shift", shift_s=300.0, seed=2008),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.4, 1.0)}, seed=2009),
+        B(air, "sensor_time_constant", lag={"PEl_W": 300.0}, seed=2010),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.88}, seed=2011),
+        B(w2w, "heat_loss", strength={"UALossGen": 300.0}, seed=2012, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 900.0}, seed=2013),
+        B(w2w, "post_run", strength={"tPostRun": 2600.0}, seed=2014),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 400.0}, seed=2015, noise_scale=1.3),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 277.15, "PBackup": 4000.0}, seed=2016, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 900.0, "tCycMinOff": 2400.0, "plrCycMin": 0.7}, seed=2017),
+        B(w2w, "clock_shift", shift_s=1200.0, seed=2018),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.92)}, seed=2019),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 900.0}, seed=2020),
+        # null cases
+        B(air, None, seed=2021),
+        B(air, None, seed=2022, noise_scale=0.8),
+        B(air, None, seed=2023, truth={"tauVolCon": synth.MODELS[air].tuners["tauVolCon"].upper}),
+        B(w2w, None, seed=2024),
+        B(w2w, None, seed=2025, missing_fraction=0.08),
+        B(w2w, None, seed=2026, truth={"dTGenSto": synth.MODELS[w2w].tuners["dTGenSto"].lower}),
+        # two effects at once
+        B(air, "start_up_lag", also=("sensor_lag",), seed=2030),
+        B(air, "backup_heater", also=("post_run",), seed=2031, seasons=winter),
+        B(w2w, "sensor_lag", also=("start_up_lag",), seed=2032),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -784,7 +832,7 @@ BLIND_SETS = {
     "seventh": seventh_cases, "eighth": eighth_cases, "ninth": ninth_cases, "tenth": tenth_cases,
     "eleventh": eleventh_cases, "twelfth": twelfth_cases, "thirteenth": thirteenth_cases,
     "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases, "sixteenth": sixteenth_cases,
-    "seventeenth": seventeenth_cases,
+    "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
