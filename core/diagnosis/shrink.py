@@ -352,7 +352,7 @@ def _versus(mine: dict, control: dict, weights: dict) -> tuple[dict, float]:
     variance, the same bound as the control's: a gap that size is within what the floor's own
     estimate and the optimiser's spread leave, and a fifth of it is no finding (the seventeenth
     blind set's null cases claimed a 40-s on-delay and an 11-s start-up lag that removed 0.11
-    and 0.13 noise variances, 29 % and 25 % of original gaps of 0.37 and 0.5)."""
+    and 0.13 noise variances where the original gaps were 0.37 and 0.33)."""
     vs = {}
     for t, v in mine.items():
         c = control.get(t)
