@@ -105,6 +105,14 @@ def test_of_two_effects_of_the_same_physics_only_the_models_own_is_recalibrated(
     for c in no_switch:
         c.twin_of = ""
     assert [c.name for c in recalibration_choice(no_switch, 3)] == ["generic_lag", "heater", "clock"]
+    # a generic lag that explains most on the power meter, the model's own on the thermometer:
+    # not the same reading, both are tested
+    for c in ranked:
+        c.twin_of = ""
+    ranked[0].per_target = {"P": {"share": 0.9, "chance": 0.0}, "T": {"share": 0.1, "chance": 0.0}}
+    ranked[2].per_target = {"P": {"share": 0.0, "chance": 0.0}, "T": {"share": 0.7, "chance": 0.0}}
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["generic_lag", "own_lag", "clock"]
+    assert ranked[0].twin_of == ""
 
 
 def test_a_modest_claim_leaves_room_for_the_second_pass():

@@ -51,6 +51,13 @@ def start_responses(cand: Candidate) -> list:
     return cand.responses
 
 
+def best_target(cand: Candidate) -> str | None:
+    """The target where the candidate explains most of the residual (chance-corrected share)."""
+    if not cand.per_target:
+        return None
+    return max(cand.per_target, key=lambda t: cand.per_target[t]["share"] - cand.per_target[t].get("chance", 0.0))
+
+
 def recalibration_choice(candidates: list[Candidate], budget: int, everyone: list[Candidate] | None = None) -> list[Candidate]:
     """The significant addable effects to recalibrate: the model's own effects (a switch in the
     model) and the generic ones around the simulator take turns, each family in its order of
@@ -65,10 +72,13 @@ def recalibration_choice(candidates: list[Candidate], budget: int, everyone: lis
     candidate (an air backup heater, seventh in the screening, lost its second-pass slot to the
     two lags)."""
     everyone = candidates if everyone is None else everyone
-    own_twins = {c.same_as: c.name for c in everyone if c.same_as and c.significant and c.addition is not None}
+    own_twins = {c.same_as: c for c in everyone if c.same_as and c.significant and c.addition is not None}
     for c in everyone:
-        if c.name in own_twins and c.addition is not None:
-            c.twin_of = own_twins[c.name]
+        own = own_twins.get(c.name)
+        # the same physics on the same reading: a generic lag whose best target is the power
+        # meter is no twin of the model's own lag on a thermometer
+        if own is not None and c.addition is not None and best_target(c) == best_target(own):
+            c.twin_of = own.name
     testable = [c for c in candidates if c.significant and c.addition is not None and not c.twin_of]
     families = [[c for c in testable if not c.addition.around], [c for c in testable if c.addition.around]]
     families = [f for f in families if f]

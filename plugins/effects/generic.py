@@ -23,11 +23,6 @@ def _safe(name: str) -> str:
     return re.sub(r"\W", "_", name)
 
 
-def _sensor_targets(data: simgap.DiagnosisData) -> list[str]:
-    """Temperatures first (a sensor mass lags), else every target."""
-    return list(data.temperature_targets) or list(data.simulated)
-
-
 def _looks_temperature(values: np.ndarray, unit: str) -> bool:
     if unit in ("K", "degC"):
         return True
@@ -57,7 +52,10 @@ class SensorTimeConstant(_Around):
     name = "sensor_time_constant"
     description = "the sensor reads a simulated output through a first-order lag (sensor mass, sleeve, averaging logger)"
     evidence = "residual follows the time derivative of the output: every rise and fall is measured late and smoothed"
-    acts_on = staticmethod(_sensor_targets)
+    # One sensor lags, not every one at once; a meter lags as a thermometer does (an averaging
+    # logger, a meter that integrates): on temperatures only, a power meter's 1200-s time
+    # constant went untested and was named a clock shift (blind sets 17 and 18).
+    alternatives = True
 
     def applies(self, data):
         return None if data.simulated else "needs a target"
@@ -65,7 +63,7 @@ class SensorTimeConstant(_Around):
     def entries(self, data):
         dt = data.sample_interval
         out = []
-        for t in _sensor_targets(data):
+        for t in data.simulated:
             name = f"tauSensor_{_safe(t)}"
             lower, upper = max(1.0, 0.05 * dt), max(3600.0, 20.0 * dt)
             out.append(({"apply": "output_lag", "variable": data.variable_of(t), "tau": name},
@@ -73,7 +71,7 @@ class SensorTimeConstant(_Around):
         return out
 
     def signature(self, data):
-        return {f"d{t}/dt": data.derivative(np.asarray(data.simulated[t], dtype=float)) for t in _sensor_targets(data)}
+        return {f"d{t}/dt": data.derivative(np.asarray(data.simulated[t], dtype=float)) for t in data.simulated}
 
 
 class SensorOffsetGain(_Around):
