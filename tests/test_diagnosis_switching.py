@@ -153,6 +153,46 @@ def test_a_physical_effect_does_not_take_the_lead_from_a_reading_error():
     assert may_take_the_lead(lag, [confirmed("cycling", ("T", "dT"))]) is None
 
 
+def test_a_further_claim_is_judged_again_on_top_of_the_effect_that_takes_the_lead(monkeypatch):
+    # the eighteenth blind set's water-to-water clock shift of 1200 s: a sensor lag (confirmed
+    # best), the shift and a power meter's time constant were all confirmed; the shift and the
+    # time constant each added on top of the lag, the lag on top of the shift nothing, so the
+    # shift leads. The time constant had only been judged on top of the lag and stayed claimed.
+    import simgap.diagnosis.run as run
+
+    def confirmed(name):
+        c = Candidate(name, "", "", applicable=True, significant=True, confirm=True, min_shrink=0.2,
+                      gap_shrink=0.6, shrink_vs_control=0.5, p_vs_control=0.001,
+                      addition=EffectAddition(switch={}, parameters=(SimpleNamespace(name="p_" + name),)))
+        assert c.claimed
+        return c
+
+    lag, shift, meter = confirmed("sensor_lag"), confirmed("clock_shift"), confirmed("sensor_time_constant")
+    beyond = {("sensor_lag", "clock_shift"): 0.5, ("sensor_lag", "sensor_time_constant"): 0.41,
+              ("clock_shift", "sensor_lag"): 0.0, ("clock_shift", "sensor_time_constant"): 0.02}
+    tested = []
+
+    def added_on_top(ctx, base, base_result, added, results, folder, say):
+        tested.append((base.name, added.name))
+        return {"effect": f"{base.name}_and_{added.name}"}, beyond[base.name, added.name]
+
+    monkeypatch.setattr(run, "_added_on_top", added_on_top)
+    results = [{"effect": c.name, "after": {}} for c in (lag, shift, meter)]
+    out = run.on_top_of_first(None, [lag, shift, meter], results, None, lambda m: None)
+    assert tested == [("sensor_lag", "clock_shift"), ("sensor_lag", "sensor_time_constant"),
+                      ("clock_shift", "sensor_lag"), ("clock_shift", "sensor_time_constant")]
+    assert len(out) == 4
+    assert shift.claimed and not lag.claimed and not meter.claimed
+    assert (meter.first, meter.beyond_first) == ("clock_shift", 0.02)
+    # where the lead does not change, nothing is judged twice
+    lag2, shift2, meter2 = confirmed("sensor_lag"), confirmed("clock_shift"), confirmed("sensor_time_constant")
+    beyond["clock_shift", "sensor_lag"] = 0.3
+    tested.clear()
+    run.on_top_of_first(None, [lag2, shift2, meter2], [{"effect": c.name, "after": {}} for c in (lag2, shift2, meter2)],
+                        None, lambda m: None)
+    assert len(tested) == 3 and lag2.claimed and meter2.claimed and meter2.first == "sensor_lag"
+
+
 @pytest.mark.parametrize("value, expected", [(0.6, True), (0.605, True), (0.9, False), (1.399, True)])
 def test_a_tuner_within_one_percent_of_a_bound_is_pinned(value, expected):
     p = SimpleNamespace(min=0.6, max=1.4, scale="linear")

@@ -222,10 +222,24 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
         # the other and both stay claimed. Like prefer_simpler, the lead is never the more
         # complex of the two.
         result, value = _added_on_top(ctx, lead, lead_result, first, results, folder, say)
+        out.append(result)
         if value is not None and value < first.min_shrink:
             first.beyond_first, first.first = value, lead.name
             lead.beyond_first, lead.first = None, None
-        out.append(result)
+            # every other further effect was judged on top of the first, which has just lost
+            # its claim: judge it again on top of the effect that now leads. On a record shifted
+            # 1200 s a power meter's 1266-s time constant added 41 % on top of a sensor lag that
+            # the shift then unseated, and both the shift and the time constant were claimed.
+            for cand in confirmed[1:]:
+                if cand is lead:
+                    continue
+                cand.beyond_first, cand.first = None, None
+                if not cand.claimed:  # not confirmed on its own either
+                    continue
+                result, value = _added_on_top(ctx, lead, lead_result, cand, results, folder, say)
+                cand.first = lead.name
+                cand.beyond_first = value
+                out.append(result)
     return out
 
 
