@@ -809,6 +809,54 @@ def eighteenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def nineteenth_cases(models: list[str]) -> list[BlindCase]:
+    """A nineteenth blind set (issue 14), written and committed before any of it ran, the first
+    with the generic sensor time constant screened on every target and a further claim judged
+    again on top of an effect that takes the lead. Seeds 2101-2132; strengths, seasons and noise
+    levels no earlier set used; every effect of each model and every generic one, with a time
+    constant on the air-source flow thermometer and on the water-to-water power meter, a gain on
+    the air-source power meter and an offset on the water-to-water supply thermometer; six null
+    cases (a tuner at each model's bound, more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 330.0}, seed=2101, seasons=winter),
+        B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 14.0}, seed=2102, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 260.0}, seed=2103, noise_scale=0.9),
+        B(air, "post_run", strength={"tPostRun": 560.0}, seed=2104, seasons=winter),
+        B(air, "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 3500.0}, seed=2105, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4200.0, "tDefrost": 360.0, "fDefrostQ": 0.4}, seed=2106, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 311.15, "dTCycHys": 2.5, "tCycMinRun": 1200.0, "tCycMinOff": 900.0}, seed=2107),
+        B(air, "clock_shift", shift_s=450.0, seed=2108),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.07)}, seed=2109),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 200.0}, seed=2110),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.1}, seed=2111),
+        B(w2w, "heat_loss", strength={"UALossGen": 220.0}, seed=2112, seasons=winter),
+        B(w2w, "sensor_lag", strength={"tauSensor": 500.0}, seed=2113),
+        B(w2w, "post_run", strength={"tPostRun": 1500.0}, seed=2114, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 750.0}, seed=2115),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 276.15, "PBackup": 3000.0}, seed=2116, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1500.0, "tCycMinOff": 1800.0, "plrCycMin": 0.3}, seed=2117),
+        B(w2w, "clock_shift", shift_s=600.0, seed=2118),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.3, 1.0)}, seed=2119),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 600.0}, seed=2120),
+        # null cases
+        B(air, None, seed=2121),
+        B(air, None, seed=2122, noise_scale=1.3),
+        B(air, None, seed=2123, truth={"mCon_flow_nominal": synth.MODELS[air].tuners["mCon_flow_nominal"].lower}),
+        B(w2w, None, seed=2124, seasons=autumn),
+        B(w2w, None, seed=2125, missing_fraction=0.05),
+        B(w2w, None, seed=2126, truth={"hCutIn": synth.MODELS[w2w].tuners["hCutIn"].upper}),
+        # two effects at once
+        B(air, "heat_loss", also=("defrost",), seed=2130, seasons=winter),
+        B(w2w, "heat_loss", also=("post_run",), seed=2131),
+        B(w2w, "backup_heater", also=("sensor_lag",), seed=2132, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -832,7 +880,7 @@ BLIND_SETS = {
     "seventh": seventh_cases, "eighth": eighth_cases, "ninth": ninth_cases, "tenth": tenth_cases,
     "eleventh": eleventh_cases, "twelfth": twelfth_cases, "thirteenth": thirteenth_cases,
     "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases, "sixteenth": sixteenth_cases,
-    "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases,
+    "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases, "nineteenth": nineteenth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
