@@ -115,6 +115,24 @@ def test_of_two_effects_of_the_same_physics_only_the_models_own_is_recalibrated(
     assert ranked[0].twin_of == ""
 
 
+def test_the_twin_of_a_models_own_effect_that_was_not_confirmed_takes_its_turn():
+    ranked = [_candidate("generic_lag", 0.9, True), _candidate("clock", 0.8, True), _candidate("own_lag", 0.7, False),
+              _candidate("heater", 0.2, False)]
+    ranked[2].same_as = "generic_lag"
+    own = ranked[2]
+    own.confirm, own.min_shrink = True, 0.2
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["clock", "own_lag", "heater"]
+    rest = [ranked[0]]
+    # recalibrated and confirmed: the tie stays with the model's own
+    own.gap_shrink, own.shrink_vs_control, own.p_vs_control = 0.9, 0.86, 0.001
+    assert own.claimed and recalibration_choice(rest, 3, everyone=ranked) == []
+    # recalibrated and not confirmed (-5 % beyond re-tuning): the generic lag has not been tested
+    own.shrink_vs_control, own.p_vs_control = -0.05, 0.56
+    assert not own.claimed
+    assert [c.name for c in recalibration_choice(rest, 3, everyone=ranked)] == ["generic_lag"]
+    assert ranked[0].twin_of == ""
+
+
 def test_a_modest_claim_leaves_room_for_the_second_pass():
     def recalibrated(shrink, beyond, at_bounds=None):
         c = _candidate("lag", 0.5, True)

@@ -70,15 +70,19 @@ def recalibration_choice(candidates: list[Candidate], budget: int, everyone: lis
     model's own sensor lag and the generic lag on the same thermometer, 402 s and 93 % each on
     a blind case) and the tie goes to the model's own, so its twin's slot goes to the next
     candidate (an air backup heater, seventh in the screening, lost its second-pass slot to the
-    two lags)."""
+    two lags). Once the model's own has been recalibrated and not confirmed, the twin is no
+    longer one and takes its turn (in the second pass): untested is not rejected, and the model's
+    own lag can fail where the generic one would not (a supply thermometer's 900-s time constant:
+    the model's lag found 968 s but its tuners did not carry over to validation, and the shift
+    that then took the claim was the wrong physics)."""
     everyone = candidates if everyone is None else everyone
-    own_twins = {c.same_as: c for c in everyone if c.same_as and c.significant and c.addition is not None}
+    own_twins = {c.same_as: c for c in everyone if c.same_as and c.significant and c.addition is not None
+                 and (c.gap_shrink is None or c.claimed)}
     for c in everyone:
         own = own_twins.get(c.name)
         # the same physics on the same reading: a generic lag whose best target is the power
         # meter is no twin of the model's own lag on a thermometer
-        if own is not None and c.addition is not None and best_target(c) == best_target(own):
-            c.twin_of = own.name
+        c.twin_of = own.name if own is not None and c.addition is not None and best_target(c) == best_target(own) else ""
     testable = [c for c in candidates if c.significant and c.addition is not None and not c.twin_of]
     families = [[c for c in testable if not c.addition.around], [c for c in testable if c.addition.around]]
     families = [f for f in families if f]
