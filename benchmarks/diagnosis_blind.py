@@ -857,6 +857,54 @@ def nineteenth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twentieth_cases(models: list[str]) -> list[BlindCase]:
+    """A twentieth blind set (issue 14), written and committed before any of it ran, the first
+    where the generic twin of a model's own effect that was recalibrated and not confirmed takes
+    its turn in the second pass. Seeds 2201-2232; strengths, seasons and noise levels no earlier
+    set used; every effect of each model and every generic one, with a time constant on the
+    water-to-water supply thermometer and on the air-source power meter, an offset on the
+    air-source flow thermometer and a gain on the water-to-water power meter; six null cases (a
+    tuner at each model's bound, less noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 520.0}, seed=2201),
+        B(air, "heat_loss", strength={"UALossCon": 50.0, "UALossPipe": 5.0}, seed=2202),
+        B(air, "sensor_lag", strength={"tauSensor": 420.0}, seed=2203, seasons=autumn),
+        B(air, "post_run", strength={"tPostRun": 800.0}, seed=2204, noise_scale=0.8),
+        B(air, "backup_heater", strength={"TOdaBackup": 277.15, "PBackup": 2000.0}, seed=2205, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 6300.0, "tDefrost": 540.0, "fDefrostQ": 0.7}, seed=2206, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 316.15, "dTCycHys": 4.0, "tCycMinRun": 300.0, "tCycMinOff": 1500.0}, seed=2207),
+        B(air, "clock_shift", shift_s=720.0, seed=2208, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.6, 1.0)}, seed=2209),
+        B(air, "sensor_time_constant", lag={"PEl_W": 900.0}, seed=2210),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.93}, seed=2211),
+        B(w2w, "heat_loss", strength={"UALossGen": 600.0}, seed=2212, noise_scale=1.2),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2000.0}, seed=2213, seasons=autumn),
+        B(w2w, "post_run", strength={"tPostRun": 2200.0}, seed=2214, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 300.0}, seed=2215),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 6000.0}, seed=2216, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2400.0, "tCycMinOff": 1200.0, "plrCycMin": 0.5}, seed=2217),
+        B(w2w, "clock_shift", shift_s=1800.0, seed=2218),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.12)}, seed=2219),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 1500.0}, seed=2220),
+        # null cases
+        B(air, None, seed=2221, seasons=autumn),
+        B(air, None, seed=2222, noise_scale=0.7),
+        B(air, None, seed=2223, truth={"fQCold": synth.MODELS[air].tuners["fQCold"].upper}),
+        B(w2w, None, seed=2224),
+        B(w2w, None, seed=2225, missing_fraction=0.1),
+        B(w2w, None, seed=2226, truth={"THeaCurY2_K": synth.MODELS[w2w].tuners["THeaCurY2_K"].lower}),
+        # two effects at once
+        B(air, "cycling", also=("heat_loss",), seed=2230),
+        B(air, "post_run", also=("backup_heater",), seed=2231, seasons=winter),
+        B(w2w, "start_up_lag", also=("heat_loss",), seed=2232),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -881,6 +929,7 @@ BLIND_SETS = {
     "eleventh": eleventh_cases, "twelfth": twelfth_cases, "thirteenth": thirteenth_cases,
     "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases, "sixteenth": sixteenth_cases,
     "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases, "nineteenth": nineteenth_cases,
+    "twentieth": twentieth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
