@@ -209,12 +209,14 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
     if first_result is None:
         return []
     out = []
-    for cand in confirmed[1:]:
-        result, value = _added_on_top(ctx, first, first_result, cand, results, folder, say)
-        cand.first = first.name
-        if value is not None:
-            cand.beyond_first = value
+
+    def judge_on_top(base: Candidate, base_result: dict, cand: Candidate) -> None:
+        result, cand.beyond_first = _added_on_top(ctx, base, base_result, cand, results, folder, say)
+        cand.first = base.name
         out.append(result)
+
+    for cand in confirmed[1:]:
+        judge_on_top(first, first_result, cand)
     lead = may_take_the_lead(first, confirmed[1:])
     lead_result = next((r for r in results if lead is not None and r.get("effect") == lead.name and "after" in r), None)
     if lead_result is not None:
@@ -240,10 +242,7 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
                 cand.beyond_first, cand.first = None, None
                 if not cand.claimed:  # not confirmed on its own either
                     continue
-                result, value = _added_on_top(ctx, lead, lead_result, cand, results, folder, say)
-                cand.first = lead.name
-                cand.beyond_first = value
-                out.append(result)
+                judge_on_top(lead, lead_result, cand)
     return out
 
 
