@@ -311,3 +311,35 @@ def test_two_withheld_effects_are_found_one_round_after_the_other(tmp_path):
     assert result["chain"][-1]["cumulative_shrink"] > result["chain"][0]["cumulative_shrink"] > 0.2, result["chain"]
     text = Path(result["report"]).read_text()
     assert "## 4. Effect by effect" in text
+
+
+def test_an_unconverged_calibration_is_diagnosed_again_from_the_re_tuned_solution(tmp_path):
+    """Eight random evaluations of the quickstart zone, far from the optimum, on data the model
+    reproduces: the control's re-tuning removes most of the training gap, so what the screening
+    saw was the optimiser's shortfall. The diagnosis starts again from the re-tuned solution,
+    once, and the page opens with that verdict."""
+    import json
+
+    frame = _truth(tmp_path, pd.read_csv(DATA), TRUE)
+    short = {"plugin": "nsga2", "options": {"population": 8}, "seed": 3, "budget": {"evaluations": 8}}
+    run_dir = calibrate(prepare(_workflow(tmp_path, frame, optimiser=short)), workers=2)
+    result = diagnose(
+        run_dir,
+        overrides={"iterations": 1, "recalibrate": {"candidates": 1, "population": 12, "generations": 4, "workers": 2}},
+        progress=None,
+    )
+    restart = result["restart"]
+    assert restart and restart["control_training_shrink"] >= 0.5, restart
+    assert result["verdict"].startswith("nothing confirmed, and re-tuning alone removed"), result["verdict"]
+    folder = run_dir / "diagnosis"
+    again = json.loads((folder / "retuned" / "diagnosis.json").read_text())
+    assert again["settings"]["restart_above"] == 1.0 and again["restart"] is None  # once only
+    assert not (folder / "retuned" / "retuned").exists()
+    top = json.loads((folder / "diagnosis.json").read_text())
+    assert top["claimed"] == again["claimed"] == result["claimed"]
+    assert top["verdict"].endswith(again["verdict"]) and top["verdict_as_calibrated"] != top["verdict"]
+    text = (folder / "report.md").read_text()
+    assert text.index("**Verdict, from the re-tuned solution:") < text.index("**Verdict for the solution as calibrated:")
+    assert "[retuned/report.md](retuned/report.md)" in text
+    # nothing was withheld: the re-tuned solution leaves no effect to claim
+    assert not result["claimed"], result["verdict"]

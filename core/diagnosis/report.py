@@ -217,7 +217,11 @@ def control_gap_shrink(shrink: list[dict]) -> float | None:
     return None if control is None else control.get("gap_shrink")
 
 
-def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict, chain: list[dict] | None = None) -> Path:
+def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict, chain: list[dict] | None = None,
+          restart: dict | None = None) -> Path:
+    """diagnosis.json and report.md in ``folder``. With ``restart`` (the calibration had not
+    converged and the re-tuned solution was diagnosed too) the page opens with that diagnosis's
+    verdict; the rest of it is the screening of the solution as calibrated."""
     folder.mkdir(parents=True, exist_ok=True)
     figs = figures(ctx, where, candidates, shrink, folder / "figures")
     claimed = [c for c in candidates if c.claimed]
@@ -237,10 +241,32 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "timing": timing,
         "figures": figs,
         "chain": chain or [],
+        "restart": restart,
     }
+    if restart and restart.get("verdict") is not None:
+        # the findings a reader acts on are the re-tuned solution's
+        payload["verdict_as_calibrated"] = payload["verdict"]
+        payload["claimed_as_calibrated"] = payload["claimed"]
+        payload["verdict"] = f"{restart['why']}; diagnosed from the re-tuned solution: {restart['verdict']}"
+        payload["claimed"] = restart["claimed"]
     (folder / "diagnosis.json").write_text(json.dumps(payload, indent=2, default=_default) + "\n")
-    (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs) + _chain_markdown(chain or []))
+    (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs, restart) + _chain_markdown(chain or []))
     return folder
+
+
+def _restart_markdown(restart: dict | None) -> list[str]:
+    if not restart:
+        return []
+    relative = "retuned/report.md"
+    if restart.get("verdict") is None:
+        return [f"**The calibration had not converged:** {restart['why']}. Diagnosing the re-tuned solution failed "
+                f"({restart.get('error', 'no result')}); the verdict below is for the solution as calibrated.", ""]
+    chain = ", then ".join(restart.get("chain") or []) or "none"
+    return [f"**Verdict, from the re-tuned solution: {restart['verdict']}.**", "",
+            f"{restart['why'][0].upper()}{restart['why'][1:]}. What the screening of that solution finds is "
+            "mostly what the optimiser left undone, so the diagnosis started again from the re-tuned solution "
+            f"(the control's, run `{Path(restart['run']).name}`): effects confirmed there: {chain}. Its full report: "
+            f"[{relative}]({relative}). The rest of this page is the diagnosis of the solution as calibrated.", ""]
 
 
 def _chain_markdown(chain: list[dict]) -> str:
@@ -268,7 +294,7 @@ def _default(v):
     return str(v)
 
 
-def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
+def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict | None = None) -> str:
     name = ctx.prepared.wf.model.name or ctx.prepared.wf.path.stem
     lines = [f"# Gap diagnosis — {name}", ""]
     lines += [
@@ -276,7 +302,10 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs) -> str:
         + ", ".join(f"{k} = {v:.4g}" for k, v in ctx.parameters.items())
         + ".",
         "",
-        f"**Verdict: {verdict(candidates, control_gap_shrink(shrink))}.**",
+    ]
+    lines += _restart_markdown(restart)
+    lines += [
+        f"**Verdict{' for the solution as calibrated' if restart else ''}: {verdict(candidates, control_gap_shrink(shrink))}.**",
         "",
     ]
     claimed = [c for c in candidates if c.claimed]
