@@ -192,6 +192,21 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             parts.append(f"re-tuning without any effect shrinks the validation gap by {control_shrink:.0%} or more (the control, "
                          "part 3): the calibration stopped short of its optimum; run it longer, or from the control's solution, "
                          "before trusting it")
+    parts += caveats(candidates)
+    if possible:
+        parts.append("possible, this model cannot take it: " + "; ".join(
+            f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible)
+            + (f"; and {more} more (part 2)" if more > 0 else ""))
+    return "; ".join(parts)
+
+
+def caveats(candidates) -> list[str]:
+    """The verdict's clauses on effects that shrank the gap but were not confirmed: beyond
+    re-tuning but not beyond chance, or no further than re-tuning alone (with the tuner that
+    makes the same change). A diagnosis started again from the re-tuned solution keeps them."""
+    alike = [c for c in candidates if c.applicable and c.like_retuning][:2]
+    undecided = [c for c in candidates if c.applicable and c.undecided][:2]
+    parts = []
     if undecided:
         parts.append("undecided on this record: " + "; ".join(
             f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}, "
@@ -204,11 +219,7 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             return f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}{twin})"
 
         parts.append("re-tuning alone does nearly as well as " + "; ".join(like(c) for c in alike))
-    if possible:
-        parts.append("possible, this model cannot take it: " + "; ".join(
-            f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible)
-            + (f"; and {more} more (part 2)" if more > 0 else ""))
-    return "; ".join(parts)
+    return parts
 
 
 def control_gap_shrink(shrink: list[dict]) -> float | None:
@@ -247,7 +258,7 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         # the findings a reader acts on are the re-tuned solution's
         payload["verdict_as_calibrated"] = payload["verdict"]
         payload["claimed_as_calibrated"] = payload["claimed"]
-        payload["verdict"] = f"{restart['why']}; diagnosed from the re-tuned solution: {restart['verdict']}"
+        payload["verdict"] = restart["final_verdict"]
         payload["claimed"] = restart["claimed"]
     (folder / "diagnosis.json").write_text(json.dumps(payload, indent=2, default=_default) + "\n")
     (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs, restart) + _chain_markdown(chain or []))
@@ -262,11 +273,15 @@ def _restart_markdown(restart: dict | None) -> list[str]:
         return [f"**The calibration had not converged:** {restart['why']}. Diagnosing the re-tuned solution failed "
                 f"({restart.get('error', 'no result')}); the verdict below is for the solution as calibrated.", ""]
     chain = ", then ".join(restart.get("chain") or []) or "none"
-    return [f"**Verdict, from the re-tuned solution: {restart['verdict']}.**", "",
-            f"{restart['why'][0].upper()}{restart['why'][1:]}. What the screening of that solution finds is "
-            "mostly what the optimiser left undone, so the diagnosis started again from the re-tuned solution "
-            f"(the control's, run `{Path(restart['run']).name}`): effects confirmed there: {chain}. Its full report: "
-            f"[{relative}]({relative}). The rest of this page is the diagnosis of the solution as calibrated.", ""]
+    _, _, before = restart.get("final_verdict", "").partition("; as calibrated, ")
+    lines = [f"**Verdict, from the re-tuned solution: {restart['verdict']}.**", ""]
+    if before:  # what re-tuning took up, said of the solution as calibrated
+        lines += [f"As calibrated, {before}.", ""]
+    return lines + [
+        f"{restart['why'][0].upper()}{restart['why'][1:]}. What the screening of that solution finds is "
+        "mostly what the optimiser left undone, so the diagnosis started again from the re-tuned solution "
+        f"(the control's, run `{Path(restart['run']).name}`): effects confirmed there: {chain}. Its full report: "
+        f"[{relative}]({relative}). The rest of this page is the diagnosis of the solution as calibrated.", ""]
 
 
 def _chain_markdown(chain: list[dict]) -> str:

@@ -12,7 +12,7 @@ from ..errors import PluginError
 from ..plugin_host import get_registry
 from .context import build_context
 from .ranking import Candidate, rank_effects, tuner_sensitivities, unexplained_targets
-from .report import control_gap_shrink, verdict, write
+from .report import caveats, control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
 from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate
 from .warmstart import local_fit
@@ -411,6 +411,10 @@ def diagnose(
     said = verdict(candidates, control_gap_shrink(shrink))
     if again is not None:
         said = f"{restart['why']}; diagnosed from the re-tuned solution: {again['verdict']}"
+        before = caveats(candidates) if not again["claimed"] else []
+        if before:  # what re-tuning took up stays said (a heat loss a capacity scale makes up for)
+            said += "; as calibrated, " + "; ".join(before)
+        restart["final_verdict"] = said
     say(said)
     timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}
     write(ctx, where, candidates, shrink, folder, timing, chain, restart=restart)
