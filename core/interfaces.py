@@ -330,6 +330,10 @@ class DiagnosisData:
     """Parameter values the workflow fixes (``simulator.options.start_values``): a switch already on."""
     around: tuple[Mapping, ...] = ()
     """The workflow's ``simulator.around`` entries (generic effects the calibration has already)."""
+    lags: Mapping[str, float] = field(default_factory=dict)
+    """Per target, the delay (s) of the simulation that best matches the measured changes in the
+    training data (part 1 of the diagnosis; positive: the measurement is late). A fact about the
+    residual to size a parameter's range by (how far a clock may be off), never a signature."""
 
     def variable_of(self, target: str) -> str:
         return self.target_variables.get(target, target)

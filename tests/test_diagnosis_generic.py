@@ -112,16 +112,22 @@ def test_around_bad_entry_names_its_line(tmp_path):
     assert parse([{"apply": "input_gain", "variable": "u", "gain": "g"}])[0].gain == "g"
 
 
+def _late(seconds: float):
+    """The logger's clock ``seconds`` late: every target appears that long after it happened."""
+    return lambda frame, t: frame.assign(**{c: np.interp(t - seconds, t, frame[c].to_numpy()) for c in ("T_zone_degC", "P_el_W")})
+
+
 @pytest.mark.parametrize(
-    "effect, withhold",
+    "effect, withhold, shift_s",
     [
-        ("sensor_time_constant", lambda frame, t: frame.assign(T_zone_degC=_lag(frame["T_zone_degC"].to_numpy(), t, 2400.0))),
-        # the logger's clock 20 min late: every series appears 20 min after it happened
-        ("clock_shift", lambda frame, t: frame.assign(**{c: np.interp(t - 1200.0, t, frame[c].to_numpy())
-                                                         for c in ("T_zone_degC", "P_el_W")})),
+        ("sensor_time_constant", lambda frame, t: frame.assign(T_zone_degC=_lag(frame["T_zone_degC"].to_numpy(), t, 2400.0)), None),
+        ("clock_shift", _late(1200.0), 1200.0),
+        # an hour late (daylight saving, or UTC against local time): beyond the shift's smallest
+        # range on these 10-min data (four intervals); the residual's best lag widens it
+        ("clock_shift", _late(3600.0), 3600.0),
     ],
 )
-def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, effect, withhold):
+def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, effect, withhold, shift_s):
     frame = pd.read_csv(DATA)
     frame = withhold(frame, _seconds(frame))
     run_dir = calibrate(prepare(_workflow(tmp_path, frame)), workers=2)
@@ -138,6 +144,9 @@ def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, eff
     assert f"most likely unmodelled effect: {effect}" in text
     derived = next(r for r in result["recalibration"] if r["effect"] == effect)
     assert derived["gap_shrink"] > 0.5, derived
+    if shift_s is not None:  # the shift itself found, not its range's bound
+        found = abs(next(iter(derived["effect_parameters"].values())))
+        assert abs(found - shift_s) < 0.1 * shift_s, derived["effect_parameters"]
     # every recalibration, the control's too, searched with the same optimiser and budget
     for recalibration in result["recalibration"]:
         optimiser = YAML().load(Path(recalibration["workflow"]).read_text())["optimiser"]

@@ -118,6 +118,7 @@ class Context:
     """Role -> where it was taken from (declared, a name, a unit, a description)."""
     operation: str = "unknown"
     """'on/off', 'modulating' (never off) or 'unknown' (no power or compressor series)."""
+    _lags: dict[str, float] | None = field(default=None, repr=False)
 
     @property
     def targets(self) -> list[str]:
@@ -154,7 +155,20 @@ class Context:
             tuners=tuple(self.prepared.space.names),
             fixed=dict((model.simulator.options or {}).get("start_values") or {}),
             around=tuple(dict(e) for e in model.simulator.around),
+            lags=self.training_lags,
         )
+
+    @property
+    def training_lags(self) -> dict[str, float]:
+        """Per target, the best lag of the simulation against the measurement in the training
+        data (the longest training piece), computed once."""
+        if self._lags is None:
+            from .where import best_lag
+
+            training = [p for p in self.pieces if p.kind == "training"] or self.pieces
+            piece = max(training, key=lambda p: len(p.seconds))
+            self._lags = {t: float(best_lag(piece.measured[t], piece.simulated[t], piece.seconds)["lag_s"]) for t in self.targets}
+        return self._lags
 
 
 # --------------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@ series), and each tuner has a neutral value at which the effect does nothing.
 
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
@@ -108,7 +109,8 @@ class SensorOffsetGain(_Around):
 
 
 CLOCK_SHIFT_SPAN_S = 600.0
-"""The clock shift's smallest range either way, in seconds."""
+"""The clock shift's smallest range either way, in seconds (wider on coarse data or where the
+residual's best lag is longer: see ``ClockShift.entries``)."""
 
 
 class ClockShift(_Around):
@@ -124,7 +126,10 @@ class ClockShift(_Around):
         # a logger's clock is off by physical time (an unsynchronised clock: seconds to minutes),
         # not by a number of samples: at least ten minutes either way, four intervals on coarse
         # data (a 60-s shift of 10-s data lay outside the ±4 intervals of before)
-        span = max(4.0 * dt, CLOCK_SHIFT_SPAN_S)
+        # and twice the lag at which the simulation best matches the measured changes: a clock
+        # off by an hour (daylight saving, UTC against local time) lies far outside ten minutes
+        seen = max((abs(v) for v in data.lags.values() if math.isfinite(v)), default=0.0)
+        span = max(4.0 * dt, CLOCK_SHIFT_SPAN_S, 2.0 * seen)
         name = "clockShift"
         # a shift's response is far from linear in it: screened at half, one, two and three
         # sample intervals either way, then doubling from six intervals to the span
