@@ -954,6 +954,55 @@ def twenty_first_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twenty_second_cases(models: list[str]) -> list[BlindCase]:
+    """A twenty-second blind set (issue 14), written and committed before any of it ran, the first
+    where the clock shift's range reaches twice the residual's best lag: the air-source logger an
+    hour late (daylight saving), the water-to-water one two hours (UTC against summer time).
+    Seeds 2401-2432; strengths, seasons and noise levels no earlier set used; every effect of each
+    model and every generic one, with a time constant on the air-source power meter and the
+    water-to-water supply thermometer, a power meter reading 10 % low on the air-source plant, a
+    -0.4 K supply-thermometer offset on the water-to-water one, a 0.88 flow-meter gain; six null
+    cases (a tuner at each model's bound, less noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 250.0}, seed=2401, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 35.0, "UALossPipe": 10.0}, seed=2402, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 200.0}, seed=2403, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 650.0}, seed=2404),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.15, "PBackup": 6000.0}, seed=2405, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0, "tDefrost": 600.0, "fDefrostQ": 0.4}, seed=2406, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 318.15, "dTCycHys": 3.0, "tCycMinRun": 900.0, "tCycMinOff": 600.0}, seed=2407, seasons=autumn),
+        B(air, "clock_shift", shift_s=3600.0, seed=2408),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.9)}, seed=2409),
+        B(air, "sensor_time_constant", lag={"PEl_W": 500.0}, seed=2410, seasons=autumn),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.88}, seed=2411),
+        B(w2w, "heat_loss", strength={"UALossGen": 500.0}, seed=2412, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2800.0}, seed=2413),
+        B(w2w, "post_run", strength={"tPostRun": 2800.0}, seed=2414, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 800.0}, seed=2415, seasons=winter),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 276.15, "PBackup": 12000.0}, seed=2416, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 3000.0, "tCycMinOff": 900.0, "plrCycMin": 0.6}, seed=2417),
+        B(w2w, "clock_shift", shift_s=7200.0, seed=2418),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.4, 1.0)}, seed=2419, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 2400.0}, seed=2420),
+        # null cases
+        B(air, None, seed=2421, seasons=autumn),
+        B(air, None, seed=2422, noise_scale=0.6),
+        B(air, None, seed=2423, truth={"scaleHPPEl_nominal": synth.MODELS[air].tuners["scaleHPPEl_nominal"].upper}),
+        B(w2w, None, seed=2424, seasons=winter),
+        B(w2w, None, seed=2425, missing_fraction=0.1),
+        B(w2w, None, seed=2426, truth={"TZoneSet_K": synth.MODELS[w2w].tuners["TZoneSet_K"].upper}),
+        # two effects at once
+        B(air, "post_run", also=("sensor_lag",), seed=2430),
+        B(air, "cycling", also=("defrost",), seed=2431, seasons=winter),
+        B(w2w, "heat_loss", also=("backup_heater",), seed=2432, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -979,6 +1028,7 @@ BLIND_SETS = {
     "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases, "sixteenth": sixteenth_cases,
     "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases, "nineteenth": nineteenth_cases,
     "twentieth": twentieth_cases, "twenty_first": twenty_first_cases,
+    "twenty_second": twenty_second_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
