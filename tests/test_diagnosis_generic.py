@@ -350,5 +350,7 @@ def test_an_unconverged_calibration_is_diagnosed_again_from_the_re_tuned_solutio
     text = (folder / "report.md").read_text()
     assert text.index("**Verdict, from the re-tuned solution:") < text.index("**Verdict for the solution as calibrated:")
     assert "[retuned/report.md](retuned/report.md)" in text
+    for clause in top["restart"]["as_calibrated"]:  # what re-tuning took up as calibrated, kept
+        assert clause in top["verdict"] and clause in text.split("**Verdict for the solution as calibrated")[0]
     # nothing was withheld: the re-tuned solution leaves no effect to claim
     assert not result["claimed"], result["verdict"]

@@ -273,10 +273,9 @@ def _restart_markdown(restart: dict | None) -> list[str]:
         return [f"**The calibration had not converged:** {restart['why']}. Diagnosing the re-tuned solution failed "
                 f"({restart.get('error', 'no result')}); the verdict below is for the solution as calibrated.", ""]
     chain = ", then ".join(restart.get("chain") or []) or "none"
-    _, _, before = restart.get("final_verdict", "").partition("; as calibrated, ")
     lines = [f"**Verdict, from the re-tuned solution: {restart['verdict']}.**", ""]
-    if before:  # what re-tuning took up, said of the solution as calibrated
-        lines += [f"As calibrated, {before}.", ""]
+    if restart.get("as_calibrated"):  # what re-tuning took up, said of the solution as calibrated
+        lines += ["As calibrated, " + "; ".join(restart["as_calibrated"]) + ".", ""]
     return lines + [
         f"{restart['why'][0].upper()}{restart['why'][1:]}. What the screening of that solution finds is "
         "mostly what the optimiser left undone, so the diagnosis started again from the re-tuned solution "

@@ -411,9 +411,10 @@ def diagnose(
     said = verdict(candidates, control_gap_shrink(shrink))
     if again is not None:
         said = f"{restart['why']}; diagnosed from the re-tuned solution: {again['verdict']}"
-        before = caveats(candidates) if not again["claimed"] else []
-        if before:  # what re-tuning took up stays said (a heat loss a capacity scale makes up for)
-            said += "; as calibrated, " + "; ".join(before)
+        # what re-tuning took up stays said (a heat loss a capacity scale makes up for)
+        restart["as_calibrated"] = caveats(candidates) if not again["claimed"] else []
+        if restart["as_calibrated"]:
+            said += "; as calibrated, " + "; ".join(restart["as_calibrated"])
         restart["final_verdict"] = said
     say(said)
     timing = {"where_s": t1 - t0, "ranking_s": t2 - t1, "recalibration_s": t3 - t2}
