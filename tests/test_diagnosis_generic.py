@@ -238,6 +238,30 @@ def test_modulating_unit_has_no_cycles_and_tables_agree(tmp_path):
     assert "cycling" not in result["claimed"]
 
 
+def test_commanded_speed_that_never_stops_but_a_measured_power_that_does_is_on_off(tmp_path):
+    """The logged command modulates and never stops, but the unit's own cut-out (which the model
+    lacks) stops it for 40 minutes every 4 hours: the measured power is two-state. The record is
+    on/off, starts are counted, and the regime table takes the same measured state as the cycle
+    table instead of calling the record 100 % steady running."""
+    frame = pd.read_csv(DATA)
+    command = 0.35 + 0.65 * frame["u_hp"].clip(0.0, 1.0)
+    seconds = _seconds(frame)
+    cut_out = (seconds % 14400.0) >= 12000.0  # the last 40 minutes of every 4 hours
+    measured = _truth(tmp_path, frame.assign(u_hp=command.where(~cut_out, 0.0)), TRUE)
+    frame = measured.assign(u_hp=command)  # the model is fed the command, as logged
+    run_dir = calibrate(prepare(_workflow(tmp_path / "run", frame)), workers=2)
+    result = diagnose(run_dir, overrides={"recalibrate": {"candidates": 0}}, progress=None)
+    where = result["where"]
+    assert where["operation"] == "on/off"
+    assert where["cycles"]["training"]["measured"]["starts"] >= 5
+    assert where["cycles"]["training"]["simulated"]["starts"] == 0  # the model never stops
+    for rows in where["regimes"].values():
+        assert "compressor off" in rows or "shut-down (15 min after stop)" in rows, rows
+        off = sum(rows[k]["time_share"] for k in ("compressor off", "shut-down (15 min after stop)") if k in rows)
+        assert off == pytest.approx(cut_out.mean(), abs=0.05)
+    assert "The unit modulates" not in Path(result["report"]).read_text()
+
+
 RENAMED = {"T_out": "x_a", "u_hp": "x_b", "Q_sol": "x_c", "T_zone": "x_d", "P_el": "x_e", "T_zone_start": "x_f"}
 
 

@@ -424,19 +424,52 @@ def role_series(roles: dict[str, str], inputs: dict, simulated: dict, on_off: bo
 
 
 def operation(ctx: "Context") -> str:
-    """'on/off' or 'modulating', from the measured power (or an explicit compressor input):
-    starts and stops are counted only where the signal really has two states."""
-    ref = ctx.roles.get("compressor", "") or ctx.roles.get("power", "")
-    kind, _, name = ref.partition(":")
-    if kind == "derived":
-        kind, _, name = name.partition(":")
-    if kind == "input":
-        values = ctx.joined("inputs")[name]
-    elif kind == "sim":
-        values = ctx.joined("measured")[name]
-    else:
+    """'on/off' or 'modulating', from an explicit compressor input and the measured power:
+    starts and stops are counted only where a signal really has two states. Either suffices:
+    a unit commanded at a modulating speed may still be stopped by its own controls (an
+    anti-short-cycle timer, a high-temperature cut-out), and then its measured power stops."""
+    series = operation_series(ctx)
+    if not series:
         return "unknown"
-    return "on/off" if two_state(values) else "modulating"
+    return "on/off" if any(two_state(v) for v in series.values()) else "modulating"
+
+
+def operation_series(ctx: "Context") -> dict[str, np.ndarray]:
+    """The series the operation is read from, by reference: the compressor input (if it is one)
+    and the measured power (if power is a target)."""
+    out = {}
+    for role in ("compressor", "power"):
+        kind, _, name = ctx.roles.get(role, "").partition(":")
+        if kind == "derived":
+            kind, _, name = name.partition(":")
+        ref = f"{kind}:{name}"
+        if ref in out:
+            continue
+        if kind == "input":
+            out[ref] = ctx.joined("inputs")[name]
+        elif kind == "sim":
+            out[ref] = ctx.joined("measured")[name]
+    return out
+
+
+def running_from_power(ctx: "Context") -> np.ndarray | None:
+    """The measured running state (1 running, 0 off) on the joined grid where the record is on/off
+    by its measured power but the compressor series never stops; else None (the compressor series
+    tells). The cycle table counts starts from the same measured power."""
+    kind, _, name = ctx.roles.get("power", "").partition(":")
+    if ctx.operation != "on/off" or kind != "sim":
+        return None
+    compressor = ctx.roles.get("compressor", "")
+    series = operation_series(ctx)
+    power = series.get(f"sim:{name}")
+    if power is None or not two_state(power):
+        return None
+    if not compressor.startswith("input:") or two_state(series[compressor]):
+        return None  # the compressor input stops itself, or the state is the model's own (derived)
+    import pandas as pd
+
+    raw = pd.Series(np.asarray(power, dtype=float)).rolling(5, center=True, min_periods=1).median()
+    return (running_level(raw.fillna(raw.median()).to_numpy(), on_off=True) > 0.05).astype(float)
 
 
 STANDBY = 0.1

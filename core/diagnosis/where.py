@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from ..config import parse_duration
-from .context import Context, compressor_state, running_level
+from .context import Context, compressor_state, running_from_power, running_level
 
 
 def _stats(m: np.ndarray, s: np.ndarray) -> dict:
@@ -91,7 +91,11 @@ def regimes(ctx: Context) -> dict[str, np.ndarray]:
     """Boolean masks of operating regimes over the joined time grid."""
     data = ctx.data()
     out: dict[str, np.ndarray] = {}
-    on = compressor_state(data)
+    # the measured power's state where it stops although the compressor input never does,
+    # so that the regimes agree with the cycle table
+    on = running_from_power(ctx)
+    if on is None:
+        on = compressor_state(data)
     if on is not None:
         since_start = data.since_change(on, rising=True)
         since_stop = data.since_change(on, rising=False)
