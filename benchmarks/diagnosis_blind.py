@@ -1003,6 +1003,56 @@ def twenty_second_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twenty_third_cases(models: list[str]) -> list[BlindCase]:
+    """A twenty-third blind set (issue 14), written and committed before any of it ran, the first
+    where a record is on/off when either its compressor input or its measured power is two-state
+    (a commanded speed that never stops, a unit whose own controls stop it). Seeds 2501-2532;
+    strengths, seasons and noise levels no earlier set used; every effect of each model and every
+    generic one, with winter cycling on both models, a clock half an hour off on the air-source
+    logger, an hour on the water-to-water one, a -0.6 K flow-thermometer offset and a 600-s
+    flow-thermometer time constant on the air-source plant, a power meter reading 12 % high on the
+    water-to-water one, a 0.92 flow-meter gain; six null cases (a tuner at each model's lower
+    bound, more noise, lost rows); three pairs, one of them winter cycling with defrost again."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 320.0}, seed=2501, seasons=winter),
+        B(air, "heat_loss", strength={"UALossCon": 45.0, "UALossPipe": 15.0}, seed=2502, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 420.0}, seed=2503, seasons=autumn),
+        B(air, "post_run", strength={"tPostRun": 480.0}, seed=2504, seasons=winter),
+        B(air, "backup_heater", strength={"TOdaBackup": 277.15, "PBackup": 5500.0}, seed=2505, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3600.0, "tDefrost": 480.0, "fDefrostQ": 0.5}, seed=2506, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 316.15, "dTCycHys": 4.0, "tCycMinRun": 1200.0, "tCycMinOff": 750.0}, seed=2507, seasons=winter),
+        B(air, "clock_shift", shift_s=1800.0, seed=2508, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.6, 1.0)}, seed=2509),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 600.0}, seed=2510, seasons=winter),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.92}, seed=2511, seasons=winter),
+        B(w2w, "heat_loss", strength={"UALossGen": 420.0}, seed=2512, seasons=winter),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2000.0}, seed=2513, seasons=autumn),
+        B(w2w, "post_run", strength={"tPostRun": 2200.0}, seed=2514),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1000.0}, seed=2515, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 10000.0}, seed=2516, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2400.0, "tCycMinOff": 1200.0, "plrCycMin": 0.5}, seed=2517, seasons=winter),
+        B(w2w, "clock_shift", shift_s=3600.0, seed=2518, seasons=winter),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.12)}, seed=2519),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 1800.0}, seed=2520, seasons=autumn),
+        # null cases
+        B(air, None, seed=2521, seasons=winter, noise_scale=1.5),
+        B(air, None, seed=2522, missing_fraction=0.1),
+        B(air, None, seed=2523, seasons=winter, truth={"fQCold": synth.MODELS[air].tuners["fQCold"].lower}),
+        B(w2w, None, seed=2524, seasons=autumn, noise_scale=1.5),
+        B(w2w, None, seed=2525, missing_fraction=0.15),
+        B(w2w, None, seed=2526, truth={"hCutIn": synth.MODELS[w2w].tuners["hCutIn"].lower}),
+        # two effects at once
+        B(air, "cycling", also=("defrost",), seed=2530, seasons=winter),
+        B(air, "backup_heater", also=("sensor_lag",), seed=2531, seasons=winter),
+        B(w2w, "cycling", also=("post_run",), seed=2532),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1028,7 +1078,7 @@ BLIND_SETS = {
     "fourteenth": fourteenth_cases, "fifteenth": fifteenth_cases, "sixteenth": sixteenth_cases,
     "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases, "nineteenth": nineteenth_cases,
     "twentieth": twentieth_cases, "twenty_first": twenty_first_cases,
-    "twenty_second": twenty_second_cases,
+    "twenty_second": twenty_second_cases, "twenty_third": twenty_third_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
