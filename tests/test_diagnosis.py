@@ -486,14 +486,20 @@ def test_the_verdict_names_an_effect_beyond_re_tuning_but_not_beyond_chance():
 def test_a_switching_effect_is_weighed_where_its_envelope_stands_out():
     """Winter cycling the model lacks: out of phase with the record, it explained 1 % of the
     power's residual sample by sample but 56 % of its envelope. Its recalibration is judged on
-    the power as much as its envelope says; without a significant envelope, by its share alone."""
+    the power as much as its envelope says; without a significant envelope, or without a change
+    of the number of starts, by its share alone."""
     from simgap.diagnosis.ranking import Candidate
     from simgap.diagnosis.run import recalibration_weights
 
     per_target = {"THCFlow_K": {"share": 0.067, "chance": 0.001}, "PEl_W": {"share": 0.015, "chance": 0.001}}
     envelope = {"THCFlow_K": {"share": 0.471, "chance": 0.098, "p_value": 1e-5},
                 "PEl_W": {"share": 0.564, "chance": 0.055, "p_value": 1e-5}}
-    cycling = Candidate("cycling", "", "", True, per_target=per_target, envelope=envelope, envelope_significant=True)
+    cycling = Candidate("cycling", "", "", True, per_target=per_target, envelope=envelope, envelope_significant=True,
+                        count_evidence=True)
     assert recalibration_weights(cycling) == pytest.approx({"THCFlow_K": 0.373, "PEl_W": 0.509})
-    weak = Candidate("cycling", "", "", True, per_target=per_target, envelope=envelope, envelope_significant=False)
+    weak = Candidate("cycling", "", "", True, per_target=per_target, envelope=envelope, envelope_significant=False,
+                     count_evidence=True)
     assert recalibration_weights(weak) == pytest.approx({"THCFlow_K": 0.066, "PEl_W": 0.014})
+    # a clock shift moves the switching instants, not their number: weighed by its share
+    shift = Candidate("clock_shift", "", "", True, per_target=per_target, envelope=envelope, envelope_significant=True)
+    assert recalibration_weights(shift) == pytest.approx({"THCFlow_K": 0.066, "PEl_W": 0.014})

@@ -129,17 +129,18 @@ def effect_parameters_at_bounds(addition: EffectAddition, values: dict[str, floa
 def recalibration_weights(cand: Candidate) -> dict[str, float]:
     """Per target, how much a recalibration's pick from its front and its shrink weigh it: the
     screening's chance-corrected share there, or on the residual's envelope for an effect that
-    moves the switching and stands out there. A reading error is judged alike on every target
+    changes the number of starts towards the record's and stands out there. A reading error is judged alike on every target
     whose reading it changes: the screening sees it only through the bias the tuners left, and
     where a tuner has absorbed it that is nothing (a supply thermometer's -0.5 K offset taken up
     by the heating curve's offset showed 0 % on the supply temperature, whose error the
     recalibration with the offset then took from 0.23 to 0.08 K)."""
     weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
-    if cand.envelope_significant:
-        # an effect that moves the switching: sample by sample its cycles are out of phase with
-        # the record's, so its share of the residual says little of where it acts; the share of
-        # the residual's envelope says it (winter cycling weighed 1 % on the power whose stops it
-        # makes, 56 % on its envelope)
+    if cand.envelope_significant and cand.count_evidence:
+        # an effect that changes how often the unit switches: sample by sample its cycles are out
+        # of phase with the record's, so its share of the residual says little of where it acts;
+        # the share of the residual's envelope says it (winter cycling weighed 1 % on the power
+        # whose stops it makes, 56 % on its envelope). A clock shift or a lag moves the switching
+        # instants but not their number; its share sample by sample is the right weight.
         for t, v in cand.envelope.items():
             weights[t] = max(weights.get(t, 0.0), v["share"] - v["chance"])
     if cand.reading_error:
