@@ -1053,6 +1053,56 @@ def twenty_third_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twenty_fourth_cases(models: list[str]) -> list[BlindCase]:
+    """A twenty-fourth blind set (issue 14), written and committed before any of it ran, the first
+    where an effect that changes the number of starts towards the record's is weighed where the
+    residual's envelope shows it. Seeds 2601-2632; strengths, seasons and noise levels no earlier
+    set used; every effect of each model and every generic one, with winter and autumn cycling
+    on the air-source plant, a clock 20 minutes off on the air-source logger and three hours on
+    the water-to-water one, a 0.3 K flow-thermometer offset with a power meter reading 5 % high
+    on the air-source plant, a 900-s time constant on the water-to-water power meter, a 1.12
+    flow-meter gain; six null cases (a tuner at a bound, less and more noise, lost rows); three
+    pairs, two of them with cycling."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 380.0}, seed=2601, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 20.0}, seed=2602, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 350.0}, seed=2603, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 560.0}, seed=2604, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 273.65, "PBackup": 4500.0}, seed=2605, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4200.0, "tDefrost": 420.0, "fDefrostQ": 0.45}, seed=2606, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 315.15, "dTCycHys": 3.5, "tCycMinRun": 700.0, "tCycMinOff": 800.0}, seed=2607, seasons=winter),
+        B(air, "clock_shift", shift_s=1200.0, seed=2608, seasons=winter),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.3, 1.0), "PEl_W": (0.0, 1.05)}, seed=2609, seasons=autumn),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 250.0}, seed=2610, seasons=autumn),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.12}, seed=2611, seasons=autumn),
+        B(w2w, "heat_loss", strength={"UALossGen": 280.0}, seed=2612, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1700.0}, seed=2613, seasons=winter),
+        B(w2w, "post_run", strength={"tPostRun": 1900.0}, seed=2614, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 700.0}, seed=2615),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 9000.0}, seed=2616, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 1500.0, "plrCycMin": 0.45}, seed=2617, seasons=autumn),
+        B(w2w, "clock_shift", shift_s=10800.0, seed=2618),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.7, 1.0)}, seed=2619, seasons=autumn),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 900.0}, seed=2620, seasons=winter),
+        # null cases
+        B(air, None, seed=2621, seasons=autumn, noise_scale=0.7),
+        B(air, None, seed=2622, seasons=winter, missing_fraction=0.08),
+        B(air, None, seed=2623, truth={"tauVolCon": synth.MODELS[air].tuners["tauVolCon"].lower}),
+        B(w2w, None, seed=2624, seasons=winter, noise_scale=1.4),
+        B(w2w, None, seed=2625, seasons=autumn, missing_fraction=0.12),
+        B(w2w, None, seed=2626, truth={"dTCtrlBand": synth.MODELS[w2w].tuners["dTCtrlBand"].upper}),
+        # two effects at once
+        B(air, "cycling", also=("post_run",), seed=2630, seasons=winter),
+        B(air, "heat_loss", also=("defrost",), seed=2631, seasons=winter),
+        B(w2w, "cycling", also=("sensor_lag",), seed=2632, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1079,6 +1129,7 @@ BLIND_SETS = {
     "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases, "nineteenth": nineteenth_cases,
     "twentieth": twentieth_cases, "twenty_first": twenty_first_cases,
     "twenty_second": twenty_second_cases, "twenty_third": twenty_third_cases,
+    "twenty_fourth": twenty_fourth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
