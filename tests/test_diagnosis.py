@@ -503,3 +503,34 @@ def test_a_switching_effect_is_weighed_where_its_envelope_stands_out():
     # a clock shift moves the switching instants, not their number: weighed by its share
     shift = Candidate("clock_shift", "", "", True, per_target=per_target, envelope=envelope, envelope_significant=True)
     assert recalibration_weights(shift) == pytest.approx({"THCFlow_K": 0.066, "PEl_W": 0.014})
+
+
+def test_a_generic_twin_is_recalibrated_once_the_models_own_lost_to_a_claim():
+    """The generic time constant on the flow thermometer gives its slot to the model's own
+    sensor lag (the same physics on the same reading). Once the model's own has been
+    recalibrated and lost to another claim, the generic one is owed its recalibration."""
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.run import untried_twins
+
+    def cand(name, shrink=None, same_as="", best="THCFlow_K", claimed=False):
+        per_target = {"THCFlow_K": {"share": 0.6, "chance": 0.0}, "PEl_W": {"share": 0.0, "chance": 0.0}}
+        if best == "PEl_W":
+            per_target = {"THCFlow_K": {"share": 0.0, "chance": 0.0}, "PEl_W": {"share": 0.6, "chance": 0.0}}
+        c = Candidate(name, "", "", True, addition=simgap.EffectAddition(switch={}, parameters=()), per_target=per_target,
+                      significant=True, gap_shrink=shrink, shrink_vs_control=shrink, same_as=same_as, confirm=True)
+        if claimed:
+            c.p_vs_control = 1e-9
+        else:
+            c.p_vs_control = 1.0
+        return c
+
+    shift = cand("clock_shift", 0.5, claimed=True)
+    own = cand("sensor_lag", 0.29, same_as="sensor_time_constant")
+    generic = cand("sensor_time_constant")
+    assert shift.claimed and not own.claimed
+    assert untried_twins([shift, own, generic]) == [generic]
+    # the model's own not yet recalibrated, or claimed: no turn for the twin
+    assert untried_twins([shift, cand("sensor_lag", None, same_as="sensor_time_constant"), generic]) == []
+    assert untried_twins([cand("sensor_lag", 0.6, same_as="sensor_time_constant", claimed=True), generic]) == []
+    # a generic lag on the power meter is no twin of the model's lag on the thermometer
+    assert untried_twins([shift, own, cand("sensor_time_constant", best="PEl_W")]) == []

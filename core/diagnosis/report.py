@@ -402,7 +402,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"when added on top of that one. When none of the first recalibrations confirms its effect, the next significant "
               f"ones are recalibrated once more, at half that p-value. Before an effect other than a reading error is claimed, "
               f"a significant reading error (a thermometer's offset, a meter's gain) is recalibrated too and judged on every "
-              f"target it reads: a tuner may have taken it up. "
+              f"target it reads: a tuner may have taken it up. A generic effect whose twin, the model's own effect of the same "
+              f"physics, was recalibrated in its place and lost to the claim is recalibrated too. "
               f"The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
     lines += ["| rank | effect | share | p | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
               "|---|---|---|---|---|---|---|---|---|"]
