@@ -466,10 +466,18 @@ def running_from_power(ctx: "Context") -> np.ndarray | None:
         return None
     if not compressor.startswith("input:") or two_state(series[compressor]):
         return None  # the compressor input stops itself, or the state is the model's own (derived)
+    # piece by piece, as the cycle table reads it
+    return np.concatenate([measured_running(p.measured[name]) for p in ctx.pieces]).astype(float)
+
+
+def measured_running(power: np.ndarray) -> np.ndarray:
+    """Running (True) or off from a measured on/off power series: a running median of five samples
+    keeps sensor noise from flickering the state, then off below 15 % of the span
+    (:func:`running_level`)."""
     import pandas as pd
 
     raw = pd.Series(np.asarray(power, dtype=float)).rolling(5, center=True, min_periods=1).median()
-    return (running_level(raw.fillna(raw.median()).to_numpy(), on_off=True) > 0.05).astype(float)
+    return running_level(raw.fillna(raw.median()).to_numpy(), on_off=True) > 0.05
 
 
 STANDBY = 0.1

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..interfaces import Effect, EffectAddition
-from .context import Context, running_level, simulate, standby_level
+from .context import Context, measured_running, simulate, standby_level
 from .shrink import noise_sigma
 
 
@@ -551,13 +551,9 @@ def moves_switches(ctx: Context, data, change: dict[str, np.ndarray]) -> bool:
 def count_starts(ctx: Context, data, power: np.ndarray) -> int:
     """Compressor starts in a power series, counted as the 'where' part counts them (a running
     median of five samples against sensor flicker, off below 15 % of the span)."""
-    import pandas as pd
-
     from .where import cycles
 
-    raw = pd.Series(np.asarray(power, dtype=float)).rolling(5, center=True, min_periods=1).median()
-    state = running_level(raw.fillna(raw.median()).to_numpy(), on_off=True) > 0.05
-    return int(cycles(state, data.time, data.segment)["starts"])
+    return int(cycles(measured_running(power), data.time, data.segment)["starts"])
 
 
 def switch_count_evidence(measured: int, base: int, settings: list[int]) -> tuple[bool, int | None]:

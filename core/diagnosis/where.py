@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from ..config import parse_duration
-from .context import Context, compressor_state, running_from_power, running_level
+from .context import Context, compressor_state, measured_running, running_from_power, running_level
 
 
 def _stats(m: np.ndarray, s: np.ndarray) -> dict:
@@ -188,12 +188,9 @@ def analyse(ctx: Context) -> dict:
     if power_ref.startswith("sim:") and ctx.operation == "on/off":
         name = power_ref[4:]
         for piece in ctx.pieces:
-            # a running median keeps sensor noise from flickering the on/off state
-            raw = pd.Series(piece.measured[name]).rolling(5, center=True, min_periods=1).median()
-            meas = running_level(raw.fillna(raw.median()).to_numpy(), on_off=True)
             sim = running_level(piece.simulated[name], on_off=True)
             result["cycles"][piece.kind] = {
-                "measured": cycles(meas > 0.05, piece.seconds, piece.segment),
+                "measured": cycles(measured_running(piece.measured[name]), piece.seconds, piece.segment),
                 "simulated": cycles(sim > 0.05, piece.seconds, piece.segment),
             }
     return result
