@@ -1175,7 +1175,9 @@ def main() -> None:
     root = args.out or Path(tempfile.mkdtemp(prefix="simgap-blind-"))
     models = args.models.split(",")
     chosen = [make for name, make in BLIND_SETS.items() if getattr(args, name)]
-    todo = (combination_cases(models) if args.combinations else chosen[0](models) if chosen else cases(models, args.quick))
+    # several set flags: their cases one after the other (a paired comparison across sets)
+    todo = (combination_cases(models) if args.combinations else [c for make in chosen for c in make(models)] if chosen
+            else cases(models, args.quick))
     if args.only:
         wanted = set(args.only.split(","))
         todo = [c for c in todo if (c.effect or "null") in wanted]
