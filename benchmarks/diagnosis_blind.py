@@ -1103,6 +1103,56 @@ def twenty_fourth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twenty_fifth_cases(models: list[str]) -> list[BlindCase]:
+    """A twenty-fifth blind set (issue 14), written and committed before any of it ran, the first
+    where a generic effect whose twin, the model's own, lost to another claim is recalibrated
+    before the claim stands. Seeds 2701-2732; strengths, seasons and noise levels no earlier set
+    used; every effect of each model and every generic one, with time constants on the
+    air-source flow thermometer (450 s, winter) and the water-to-water supply thermometer
+    (1200 s), a clock 40 minutes off on the air-source logger and 90 minutes on the
+    water-to-water one, a 0.5 K flow-thermometer offset on the air-source plant, a water-to-water
+    power meter reading 8 % low, a 1.05 flow-meter gain; six null cases (a tuner at a bound,
+    less and more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 280.0}, seed=2701),
+        B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 12.0}, seed=2702),
+        B(air, "sensor_lag", strength={"tauSensor": 480.0}, seed=2703, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 720.0}, seed=2704, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 272.65, "PBackup": 3000.0}, seed=2705, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 2700.0, "tDefrost": 540.0, "fDefrostQ": 0.55}, seed=2706, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 313.15, "dTCycHys": 4.5, "tCycMinRun": 800.0, "tCycMinOff": 700.0}, seed=2707, seasons=autumn),
+        B(air, "clock_shift", shift_s=2400.0, seed=2708, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.5, 1.0)}, seed=2709, seasons=winter),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 450.0}, seed=2710, seasons=winter),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.05}, seed=2711),
+        B(w2w, "heat_loss", strength={"UALossGen": 380.0}, seed=2712),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2600.0}, seed=2713, seasons=winter),
+        B(w2w, "post_run", strength={"tPostRun": 2500.0}, seed=2714, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 900.0}, seed=2715, seasons=winter),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 5000.0}, seed=2716, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2700.0, "tCycMinOff": 1000.0, "plrCycMin": 0.55}, seed=2717, seasons=autumn),
+        B(w2w, "clock_shift", shift_s=5400.0, seed=2718, seasons=autumn),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.92)}, seed=2719, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 1200.0}, seed=2720, seasons=winter),
+        # null cases
+        B(air, None, seed=2721, seasons=winter, noise_scale=0.8),
+        B(air, None, seed=2722, noise_scale=1.6),
+        B(air, None, seed=2723, seasons=autumn, truth={"mHC_flow_nominal": synth.MODELS[air].tuners["mHC_flow_nominal"].upper}),
+        B(w2w, None, seed=2724, seasons=autumn, noise_scale=0.8),
+        B(w2w, None, seed=2725, seasons=winter, missing_fraction=0.06),
+        B(w2w, None, seed=2726, truth={"tankHD": synth.MODELS[w2w].tuners["tankHD"].lower}),
+        # two effects at once
+        B(air, "start_up_lag", also=("heat_loss",), seed=2730, seasons=autumn),
+        B(air, "defrost", also=("sensor_lag",), seed=2731, seasons=winter),
+        B(w2w, "backup_heater", also=("post_run",), seed=2732, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1129,7 +1179,7 @@ BLIND_SETS = {
     "seventeenth": seventeenth_cases, "eighteenth": eighteenth_cases, "nineteenth": nineteenth_cases,
     "twentieth": twentieth_cases, "twenty_first": twenty_first_cases,
     "twenty_second": twenty_second_cases, "twenty_third": twenty_third_cases,
-    "twenty_fourth": twenty_fourth_cases,
+    "twenty_fourth": twenty_fourth_cases, "twenty_fifth": twenty_fifth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
