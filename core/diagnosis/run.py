@@ -150,6 +150,16 @@ def recalibration_weights(cand: Candidate) -> dict[str, float]:
     return weights
 
 
+def judge_claims(ctx, candidates: list[Candidate], shrink: list[dict], folder: Path, say) -> list[Candidate]:
+    """The recalibrated effects in order: the best-confirmed first (the simpler of two the data
+    do not tell apart), every further one judged on top of it."""
+    candidates = confirm_order(candidates)
+    prefer_simpler(candidates, shrink)
+    candidates = confirm_order(candidates)
+    shrink += on_top_of_first(ctx, candidates, shrink, folder, say)
+    return confirm_order(candidates)
+
+
 def untried_twins(candidates: list[Candidate]) -> list[Candidate]:
     """Significant generic effects never recalibrated whose twin, the model's own effect of the
     same physics on the same reading (:attr:`simgap.Effect.same_as`), was recalibrated and not
@@ -409,14 +419,6 @@ def diagnose(
             for cand in more:
                 cand.confirm_significance = ctx.config.confirm_significance / 2
             _recalibrate_each(ctx, more, nuisance, control, folder, shrink, say)
-    untried = untried_twins(candidates) if chosen and any(c.claimed for c in candidates) else []
-    if untried:
-        # untested is not rejected: the model's own lag, recalibrated and beaten by another claim,
-        # leaves its generic twin untested, and the model's structure can fit where the generic
-        # one would not (a flow thermometer's 600-s time constant: the model's lag found 380 s,
-        # 29 % beyond re-tuning, and a 560-s clock shift took the claim)
-        say("before the claim, the generic twins of the model's own effects it beat: recalibrating " + ", ".join(c.name for c in untried))
-        _recalibrate_each(ctx, untried, nuisance, control, folder, shrink, say)
     if chosen and any(c.claimed and not c.reading_error for c in candidates):
         # rule out a reading error before a physical claim: a tuner that took up a thermometer's
         # offset (a heating curve's offset moves the simulated supply temperature alike) leaves
@@ -427,11 +429,20 @@ def diagnose(
         if unread:
             say("before a physical claim, the reading errors: recalibrating " + ", ".join(c.name for c in unread))
             _recalibrate_each(ctx, unread, nuisance, control, folder, shrink, say)
-    candidates = confirm_order(candidates)
-    prefer_simpler(candidates, shrink)
-    candidates = confirm_order(candidates)
-    shrink += on_top_of_first(ctx, candidates, shrink, folder, say)
-    candidates = confirm_order(candidates)
+    candidates = judge_claims(ctx, candidates, shrink, folder, say)
+    untried = untried_twins(candidates) if chosen and any(c.claimed for c in candidates) else []
+    if untried:
+        # untested is not rejected: the model's own lag, beaten by another claim (on top of which
+        # it added too little), leaves its generic twin untested, and the model's structure can
+        # fit where the generic one would not (a flow thermometer's 600-s time constant: the
+        # model's lag found 380 s, 29 % beyond re-tuning, and a 560-s clock shift took the claim)
+        say("before the claim, the generic twins of the model's own effects it beat: recalibrating " + ", ".join(c.name for c in untried))
+        _recalibrate_each(ctx, untried, nuisance, control, folder, shrink, say)
+        if any(c.claimed for c in untried):  # confirmed on its own: every claim judged afresh with it
+            shrink[:] = [r for r in shrink if "on_top_of" not in r]
+            for c in candidates:
+                c.beyond_first, c.first, c.equivalent = None, None, []
+            candidates = judge_claims(ctx, candidates, shrink, folder, say)
     if control is not None:
         shrink.insert(0, control)
     chain = further_effects(ctx, candidates, shrink, folder, say)
