@@ -130,8 +130,8 @@ def recalibration_weights(cand: Candidate) -> dict[str, float]:
     """Per target, how much a recalibration's pick from its front and its shrink weigh it: the
     screening's chance-corrected share there, or on the residual's envelope for an effect that
     changes the number of starts towards the record's and stands out there. A reading error is
-    judged alike on every target whose reading it changes: the screening sees it only through the bias the tuners left, and
-    where a tuner has absorbed it that is nothing (a supply thermometer's -0.5 K offset taken up
+    judged alike on every target whose reading it changes: the screening sees it only through
+    the bias the tuners left, and where a tuner has absorbed it that is nothing (a supply thermometer's -0.5 K offset taken up
     by the heating curve's offset showed 0 % on the supply temperature, whose error the
     recalibration with the offset then took from 0.23 to 0.08 K)."""
     weights = {t: v["share"] - v["chance"] for t, v in cand.per_target.items()}
