@@ -37,6 +37,11 @@ LIKE_RETUNING = 0.9
 the tuner as the effect's twin."""
 
 
+REOPENS_AT_MOST = 0.5
+"""The share of a target's original gap that re-tuning alone closes and a claimed effect may
+leave open again (see :func:`simgap.diagnosis.run.reopened_targets`)."""
+
+
 @dataclass
 class Candidate:
     name: str
@@ -75,6 +80,10 @@ class Candidate:
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     would_test: str = "a model that can take it"
     """What would test it where this model cannot take it (a switch, a generic alternative)."""
+    reopened: dict[str, float] = field(default_factory=dict)
+    """Targets on which the recalibration with the effect leaves more than ``REOPENS_AT_MOST`` of
+    the original gap that re-tuning alone closes (target -> that share): the effect fits one
+    target at another's cost, and is not claimed (:func:`simgap.diagnosis.run.reopened_targets`)."""
     at_bounds: dict[str, float] = field(default_factory=dict)
     """The effect's own parameters its recalibration left at a bound of their range (name ->
     value): an effect that needs more than its range allows may stand in for another."""
@@ -117,6 +126,8 @@ class Candidate:
         confirming = self.shrink_vs_control if self.shrink_vs_control is not None else self.gap_shrink
         if self.beyond_first is not None and not self.beyond_first >= self.min_shrink:
             return False  # what it closes, the better effect closes already
+        if self.reopened:
+            return False  # it buys one target's fit with another's
         if self.p_vs_control is not None and not self.p_vs_control <= self.confirm_significance:
             return False  # the shrink is within what chance gives on this record
         return confirming >= self.min_shrink
@@ -150,7 +161,7 @@ class Candidate:
         """Recalibrated, beyond re-tuning by the confirmation threshold, but not distinguished
         from chance on this record (the paired test against the control above its p-value): a
         longer validation record would decide. Not claimed, and not nothing either."""
-        return (not self.claimed and self.gap_shrink is not None and self.shrink_vs_control is not None
+        return (not self.claimed and not self.reopened and self.gap_shrink is not None and self.shrink_vs_control is not None
                 and self.shrink_vs_control >= self.min_shrink and self.gap_shrink >= self.min_shrink
                 and self.p_vs_control is not None and self.p_vs_control > self.confirm_significance
                 and (self.beyond_first is None or self.beyond_first >= self.min_shrink))
@@ -163,6 +174,7 @@ class Candidate:
             "applicable": self.applicable,
             "in_model": self.in_model,
             "at_bounds": self.at_bounds,
+            "reopened": self.reopened,
             "would_test": self.would_test,
             "twin_of": self.twin_of,
             "reason": self.reason,

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .context import ROLES, Context
-from .ranking import LIKE_RETUNING
+from .ranking import LIKE_RETUNING, REOPENS_AT_MOST
 from .where import rolling_error, worst_windows
 
 
@@ -207,6 +207,11 @@ def caveats(candidates) -> list[str]:
     alike = [c for c in candidates if c.applicable and c.like_retuning][:2]
     undecided = [c for c in candidates if c.applicable and c.undecided][:2]
     parts = []
+    traded = [c for c in candidates if c.applicable and c.reopened and c.gap_shrink is not None][:2]
+    if traded:
+        parts.append("not claimed, each fits some targets at another's cost: " + "; ".join(
+            f"{c.name} (" + ", ".join(f"leaves {v:.0%} of the gap on {t} that re-tuning alone closes" for t, v in c.reopened.items())
+            + ")" for c in traded))
     if undecided:
         parts.append("undecided on this record: " + "; ".join(
             f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}, "
@@ -398,7 +403,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"{ctx.config.min_shrink:.0%} of the original validation gap (squared error above the noise floor) beyond what "
               f"the same re-tuning without an effect removes, "
               f"that improvement is not chance (paired test of the squared errors against the control's, autocorrelation kept, "
-              f"p ≤ {ctx.config.confirm_significance:g}), and, beside a better-confirmed effect, it shrinks the gap further "
+              f"p ≤ {ctx.config.confirm_significance:g}), no target keeps more than {REOPENS_AT_MOST:.0%} of the gap that re-tuning alone closes on it "
+              f"(an effect that fits some targets at another's cost stands in for a cause on fewer readings), and, beside a better-confirmed effect, it shrinks the gap further "
               f"when added on top of that one. When none of the first recalibrations confirms its effect, the next significant "
               f"ones are recalibrated once more, at half that p-value. Before an effect other than a reading error is claimed, "
               f"a significant reading error (a thermometer's offset, a meter's gain) is recalibrated too and judged on every "
@@ -420,6 +426,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             shrunk = "cannot be added to this model: possible, not confirmed"
         if c.beyond_first is not None:
             shrunk += f"; on top of {c.first}: {_pct(c.beyond_first)} more"
+        if c.reopened:
+            shrunk += "; leaves " + ", ".join(f"{_pct(v)} of the gap on {t}" for t, v in c.reopened.items()) + " that re-tuning alone closes"
         share, tuner, target = c.reproduced()
         if c.gap_shrink is not None and tuner is not None and share >= 0.5:
             shrunk += f"; re-tuning {tuner} reproduces {_pct(share)} of its change of {target}"
