@@ -748,6 +748,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         responses = [change for _, change in cand.responses]
         moved = [moves_switches(ctx, data, change) for change in responses]
         best_target_share = best_envelope_share = -math.inf
+        best_on_envelope = None
         cand.moved_switches = any(moved)
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
@@ -783,7 +784,9 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
                 e_obs, e_chance, e_p, _, e_best = max_shift_test(views[1][1], envelopes)
                 cand.envelope[t] = {"share": e_obs, "chance": e_chance, "p_value": e_p}
                 if e_obs - e_chance > best_envelope_share:
-                    cand.best_setting, best_envelope_share = which[e_best], e_obs - e_chance
+                    best_on_envelope, best_envelope_share = which[e_best], e_obs - e_chance
+                    if not alternatives:
+                        cand.best_setting = best_on_envelope
             if keeps_offset:
                 # a constant cannot be tested by shifting it in time: the bias that re-tuning
                 # leaves (tuners cleared, the constant kept) gets its own test, paid for by a
@@ -807,6 +810,14 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             raws.append(observed)
             ps.append(p)
             cand.features = sorted(set(cand.features) | set(names))
+        if alternatives and best_on_envelope is not None and best_envelope_share >= best_target_share:
+            # the envelopes' best setting stands where the envelopes explain more: sample by
+            # sample, cycles out of phase make a setting that does nothing look best. Of
+            # alternative causes (one reading's time constant, not every one at once) the one
+            # that explains more, by either view, is the cause: a water-to-water power meter's
+            # 900-s time constant explained 49 % of the power's residual, and the supply
+            # thermometer's lag, 9 % of its envelope, was the one recalibrated
+            cand.best_setting = best_on_envelope
         # an effect may act on one target only: its score is its best target, not a mean that
         # unrelated targets dilute (the shift test's chance correction is per target)
         cand.share = float(np.max(shares)) if shares else 0.0
