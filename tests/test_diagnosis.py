@@ -8,6 +8,7 @@ with it and shrinks the validation gap; a null case (nothing withheld) must clai
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -568,3 +569,17 @@ def test_an_effect_that_fits_one_target_at_anothers_cost_is_not_claimed():
     # without the cost on the power the shift, the larger shrink, would be the claim
     shift.reopened = {}
     assert shift.claimed
+
+
+def test_of_alternative_causes_the_one_that_explains_more_is_recalibrated():
+    """Blind case 2620: a water-to-water power meter's 900-s time constant explained 49 % of the
+    power's residual sample by sample; on the envelopes the supply thermometer's lag explained
+    9 %. The power meter's lag is the one to recalibrate; where the envelopes explain more (a
+    switching effect whose cycles are out of phase), their setting stands."""
+    from simgap.diagnosis.ranking import alternative_setting
+
+    power_lag, supply_lag = 3, 11
+    assert alternative_setting((power_lag, 0.487), (supply_lag, 0.093)) == power_lag
+    assert alternative_setting((power_lag, 0.01), (supply_lag, 0.46)) == supply_lag
+    assert alternative_setting((power_lag, 0.2), (None, -math.inf)) == power_lag
+    assert alternative_setting((None, -math.inf), (supply_lag, 0.1)) == supply_lag

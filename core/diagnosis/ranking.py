@@ -476,6 +476,21 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int
     return settings
 
 
+def alternative_setting(sample: tuple[int | None, float], envelope: tuple[int | None, float]) -> int | None:
+    """Of an effect whose parameters are alternative causes (one reading's time constant, not
+    every one at once), the setting to recalibrate: (setting, chance-corrected share) found best
+    sample by sample and on the residual's envelopes; the one that explains more. The envelopes'
+    best stands where they explain at least as much (sample by sample, cycles out of phase make
+    a setting that does nothing look best), but not over a cause the samples show far more
+    clearly: a water-to-water power meter's 900-s time constant explained 49 % of the power's
+    residual, and the supply thermometer's lag, 9 % of its envelope, was recalibrated in its
+    place (blind case 2620)."""
+    (on_samples, sample_share), (on_envelope, envelope_share) = sample, envelope
+    if on_envelope is not None and (on_samples is None or envelope_share >= sample_share):
+        return on_envelope
+    return on_samples
+
+
 def only_the_best_alternative(addition: EffectAddition, responses: list, best: int) -> tuple[EffectAddition, list, int]:
     """For an effect whose parameters are alternative causes: the addition with only the
     parameters the best setting moves (and the ``around`` entries that name one of them), the
@@ -810,14 +825,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             raws.append(observed)
             ps.append(p)
             cand.features = sorted(set(cand.features) | set(names))
-        if alternatives and best_on_envelope is not None and best_envelope_share >= best_target_share:
-            # the envelopes' best setting stands where the envelopes explain more: sample by
-            # sample, cycles out of phase make a setting that does nothing look best. Of
-            # alternative causes (one reading's time constant, not every one at once) the one
-            # that explains more, by either view, is the cause: a water-to-water power meter's
-            # 900-s time constant explained 49 % of the power's residual, and the supply
-            # thermometer's lag, 9 % of its envelope, was the one recalibrated
-            cand.best_setting = best_on_envelope
+        if alternatives:
+            cand.best_setting = alternative_setting((cand.best_setting, best_target_share), (best_on_envelope, best_envelope_share))
         # an effect may act on one target only: its score is its best target, not a mean that
         # unrelated targets dilute (the shift test's chance correction is per target)
         cand.share = float(np.max(shares)) if shares else 0.0
