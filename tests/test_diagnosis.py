@@ -583,3 +583,43 @@ def test_of_alternative_causes_the_one_that_explains_more_is_recalibrated():
     assert alternative_setting((power_lag, 0.01), (supply_lag, 0.46)) == supply_lag
     assert alternative_setting((power_lag, 0.2), (None, -math.inf)) == power_lag
     assert alternative_setting((None, -math.inf), (supply_lag, 0.1)) == supply_lag
+
+
+def test_the_reverse_on_top_test_starts_where_the_forward_one_ended(monkeypatch, tmp_path):
+    """Both orders of two confirmed effects fit one model. The reverse test (the first on top of
+    the further one) starts from the joint solution the forward test found, not from the
+    further one alone with the first at its weak end: there a post-run stayed at its 30-s bound
+    where the forward order had found 555 s (blind case 2604), and the input gain took the lead.
+    Only the searches are replaced here; the order of the tests and their wiring are the
+    diagnosis's own."""
+    from types import SimpleNamespace
+
+    from simgap.diagnosis import run as run_module
+    from simgap.diagnosis.context import DiagnoseConfig
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.interfaces import EffectParameter
+
+    def cand(name, parameter, shrink):
+        addition = simgap.EffectAddition(switch={}, parameters=(EffectParameter(parameter, 1.0, 0.0, 2.0, neutral=0.0),))
+        return Candidate(name, "", "", True, addition=addition, significant=True, gap_shrink=shrink, shrink_vs_control=shrink,
+                         p_vs_control=1e-9, confirm=True, min_shrink=0.2)
+
+    post_run, gain = cand("post_run", "tPostRun", 0.82), cand("input_gain_error", "gain", 0.54)
+    results = [{"effect": "post_run", "after": {}, "parameters": {"scale": 0.9, "tPostRun": 555.0}, "confirmed_on": "validation"},
+               {"effect": "input_gain_error", "after": {}, "parameters": {"scale": 1.1, "gain": 0.74}, "confirmed_on": "validation"}]
+    starts = {}
+
+    def fake_recalibrate(ctx, name, addition, folder, weights, control=None, start=None, ablate=True):
+        starts[name] = dict(start)
+        joint = {"scale": 0.91, "tPostRun": 556.0, "gain": 0.97}
+        return {"effect": name, "parameters": joint, "gap_shrink_vs_control": 0.3 if name.startswith("post_run") else 0.05,
+                "p_vs_control": 1e-6}
+
+    monkeypatch.setattr(run_module, "recalibrate", fake_recalibrate)
+    monkeypatch.setattr(run_module, "local_fit", lambda ctx, nuisance, addition, start=None: dict(start))
+    ctx = SimpleNamespace(config=DiagnoseConfig())
+    run_module.on_top_of_first(ctx, [post_run, gain], results, tmp_path, lambda *_: None)
+    # forward: the input gain on top of the post-run, from the post-run's solution with the gain neutral
+    assert starts["post_run_and_input_gain_error"] == {"scale": 0.9, "tPostRun": 555.0, "gain": 0.0}
+    # reverse: the post-run on top of the input gain, from where the forward search ended
+    assert starts["input_gain_error_and_post_run"] == {"scale": 0.91, "tPostRun": 556.0, "gain": 0.97}
