@@ -134,9 +134,9 @@ def reopened_targets(result: dict, training: bool = False) -> dict[str, float]:
     so a real effect, recalibrated, fits every target about as well as re-tuning alone or
     better. One that fits the targets its weights favour at another's cost stands in for a
     cause that acts on fewer readings: a thermometer's 600-s time constant read as a 560-s
-    clock shift took the supply temperature's error from 0.051 to 0.025 K and the power's from
+    clock shift took the flow temperature's error from 0.051 to 0.025 K and the power's from
     10 W (re-tuning alone, at the noise) back to 91 W, 83 % of its original gap. Over the
-    recalibrations of blind sets 5-25, no right claim re-opened more than 42 % of a target's
+    recalibrations of blind sets 17-25, no right claim re-opened more than 42 % of a target's
     gap; three wrong ones re-opened 74, 83 and 138 %."""
     per_target = result.get("shrink_vs_control_training" if training else "shrink_vs_control") or {}
     return {t: -float(v) for t, v in per_target.items() if v is not None and math.isfinite(v) and -v > REOPENS_AT_MOST}
