@@ -99,6 +99,11 @@ class Segments(Section):
     validation: list[TimeRange] = Field(default_factory=list)
     warmup: Duration = None
     """Simulate this long before each segment (initial state settling); not scored."""
+    restart_after_gap: Duration = None
+    """Split a segment where the record has a gap longer than this (e.g. '15min'): the model
+    starts again after the gap and its first ``warmup`` there is simulated, not scored. Without
+    it the inputs are interpolated across the gap, and what the plant did meanwhile (a start, a
+    stop) is missing from the model's state after it."""
 
     @field_validator("training", "validation", mode="before")
     @classmethod

@@ -251,6 +251,38 @@ def _bound(wf: LoadedWorkflow, data: MeasuredData, value, key) -> pd.Timestamp:
         raise wf.error(key, f"expected a timestamp, a number or a share such as '60%', got {value!r}") from None
 
 
+def _split_at_gaps(wf: LoadedWorkflow, data: MeasuredData, kind: str, i: int, seg: Segment, longest: pd.Timedelta,
+                   warmup: pd.Timedelta) -> list[Segment]:
+    """``seg`` split where the record has a gap longer than ``longest``: each piece after a gap
+    starts its simulation at the gap's end and is scored from ``warmup`` later. A piece too short
+    to hold its warm-up and two scored samples is left out; a note says how many gaps split the
+    segment and how much was left unscored."""
+    index = data.frame.index
+    rows = index[(index >= seg.sim_start) & (index <= seg.end)]
+    jumps = np.flatnonzero(np.diff(rows.to_numpy()) > np.timedelta64(longest))
+    if not len(jumps):
+        return [seg]
+    pieces, dropped = [], 0
+    bounds = [(seg.sim_start, rows[jumps[0]])] + [(rows[a + 1], rows[b]) for a, b in zip(jumps[:-1], jumps[1:])] + [(rows[jumps[-1] + 1], seg.end)]
+    for k, (sim_start, end) in enumerate(bounds):
+        scored_from = max(seg.start, sim_start + warmup) if k else seg.start
+        scored = index[(index >= scored_from) & (index <= end)]
+        if len(scored) < 2:
+            dropped += 1
+            continue
+        pieces.append(Segment(f"{kind}-{i}.{k}", scored[0], scored[-1], sim_start))
+    lost = (seg.end - seg.start) - sum((p.end - p.start for p in pieces), pd.Timedelta(0))
+    note = (f"{kind} segment {i}: split at {len(jumps)} gap(s) longer than {_span(longest)} "
+            f"(data.segments.restart_after_gap); the model starts again after each, {lost.total_seconds() / 3600:.1f} h not scored"
+            + (f", {dropped} piece(s) too short for the warm-up left out" if dropped else ""))
+    if note not in data.notes:
+        data.notes.append(note)
+    if not pieces:
+        raise wf.error(("data", "segments", "restart_after_gap"),
+                       f"{kind} segment {i}: no piece between gaps longer than {_span(longest)} holds its warm-up and two samples")
+    return pieces
+
+
 def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]:
     """The training or validation segments as timestamps, checked against the record."""
     cfg = wf.model.data.segments
@@ -296,7 +328,11 @@ def segments(wf: LoadedWorkflow, data: MeasuredData, kind: str) -> list[Segment]
             if note not in data.notes:
                 data.notes.append(note)
         sim_start = index[index.searchsorted(first - warmup)]
-        out.append(Segment(f"{kind}-{i}", first, last, sim_start))
+        if cfg.restart_after_gap is None:
+            out.append(Segment(f"{kind}-{i}", first, last, sim_start))
+        else:
+            out += _split_at_gaps(wf, data, kind, i, Segment(f"{kind}-{i}", first, last, sim_start),
+                                  parse_duration(cfg.restart_after_gap), warmup)
     if kind == "validation":
         training = segments(wf, data, "training")
         for j, seg in enumerate(out):

@@ -139,3 +139,36 @@ def test_segment_bounds_snap_to_measured_samples(tmp_path):
     train, valid = segments(wf, data, "training")[0], segments(wf, data, "validation")[0]
     assert train.end in data.frame.index and valid.start in data.frame.index
     assert train.end < valid.start
+
+
+def test_a_segment_restarts_after_a_long_gap(tmp_path):
+    """Ten-minute data with 1 h 10 min missing: with ``restart_after_gap: 30min`` the training
+    segment becomes two simulations; the second starts at the first sample after the gap and is
+    scored from its warm-up later. Without the option it stays one, inputs interpolated over the
+    gap. A piece too short for its warm-up is left out, and the notes say what was not scored."""
+    frame = table(49)  # 8 h
+    frame = frame[(frame["t"] <= 7200.0) | (frame["t"] >= 11400.0)]  # nothing from 2 h 10 to 3 h 0
+    options = "\n    warmup: 1h\n    restart_after_gap: 30min"
+    wf = workflow(tmp_path, frame, training="{start: 0, end: '70%'}", validation="{start: '75%', end: '100%'}" + options)
+    data = load_measured(wf)
+    first, second = segments(wf, data, "training")
+    origin = pd.Timestamp("2024-03-01 06:00")
+    assert (first.sim_start, first.start, first.end) == (origin, origin, origin + pd.Timedelta(seconds=7200))
+    assert second.sim_start == origin + pd.Timedelta(seconds=11400)  # the first sample after the gap
+    assert second.start == origin + pd.Timedelta(seconds=11400 + 3600)  # scored after the warm-up
+    assert any("split at 1 gap(s) longer than 30min" in n for n in data.notes), data.notes
+    assert len(segments(wf, data, "validation")) == 1  # no gap there
+    plain = workflow(tmp_path, frame, training="{start: 0, end: '70%'}", validation="{start: '75%', end: '100%'}\n    warmup: 1h")
+    assert len(segments(plain, load_measured(plain), "training")) == 1
+    # half of every hour missing: a piece between gaps is shorter than its warm-up and left out
+    frame = table(49)
+    frame = frame[(frame["t"] % 3600.0) < 1800.0]
+    gappy = "{start: '75%', end: '100%'}\n    warmup: 1h\n    restart_after_gap: 15min"
+    wf = workflow(tmp_path, frame, training="{start: 0, end: '70%'}", validation=gappy)
+    data = load_measured(wf)
+    assert len(segments(wf, data, "training")) == 1  # the piece at the record's start, from its measured state
+    assert any("piece(s) too short for the warm-up left out" in n for n in data.notes), data.notes
+    # a segment that starts after the first gap has no piece left to score: said at the option's line
+    wf = workflow(tmp_path, frame, training="{start: '20%', end: '70%'}", validation=gappy)
+    with pytest.raises(ConfigError, match="restart_after_gap"):
+        segments(wf, load_measured(wf), "training")
