@@ -609,8 +609,11 @@ def test_the_reverse_on_top_test_starts_where_the_forward_one_ended(monkeypatch,
                {"effect": "input_gain_error", "after": {}, "parameters": {"scale": 1.1, "gain": 0.74}, "confirmed_on": "validation"}]
     starts = {}
 
-    def fake_recalibrate(ctx, name, addition, folder, weights, control=None, start=None, ablate=True):
+    ablated = {}
+
+    def fake_recalibrate(ctx, name, addition, folder, weights, control=None, start=None, ablate=True, ablate_only=()):
         starts[name] = dict(start)
+        ablated[name] = [p.name for p in ablate_only]
         joint = {"scale": 0.91, "tPostRun": 556.0, "gain": 0.97}
         return {"effect": name, "parameters": joint, "gap_shrink_vs_control": 0.3 if name.startswith("post_run") else 0.05,
                 "p_vs_control": 1e-6}
@@ -623,3 +626,5 @@ def test_the_reverse_on_top_test_starts_where_the_forward_one_ended(monkeypatch,
     assert starts["post_run_and_input_gain_error"] == {"scale": 0.9, "tPostRun": 555.0, "gain": 0.0}
     # reverse: the post-run on top of the input gain, from where the forward search ended
     assert starts["input_gain_error_and_post_run"] == {"scale": 0.91, "tPostRun": 556.0, "gain": 0.97}
+    # each judged against the joint solution with only the added effect at its weak end too
+    assert ablated == {"post_run_and_input_gain_error": ["gain"], "input_gain_error_and_post_run": ["tPostRun"]}

@@ -338,8 +338,10 @@ def _added_on_top(ctx, base: Candidate, base_result: dict, added: Candidate, res
         start = dict(base_result.get("parameters", {}))
         start.update({p.name: p.lower if p.neutral is None else p.neutral for p in added.addition.parameters})
     start = local_fit(ctx, None, both, start=start)
+    # judged against the base alone and against the joint solution with the added effect at its
+    # weak end: the joint search re-tunes too, and what that alone gains is not the effect's
     result = recalibrate(ctx, name, both, folder / "recalibration" / name, recalibration_weights(added),
-                         control=base_result, start=start, ablate=False)
+                         control=base_result, start=start, ablate=False, ablate_only=tuple(added.addition.parameters))
     result["on_top_of"] = base.name
     added_result = next((r for r in results if r.get("effect") == added.name), {})
     on_training = added_result.get("confirmed_on") == "training"
