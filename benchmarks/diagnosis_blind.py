@@ -1203,6 +1203,57 @@ def twenty_sixth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twenty_seventh_cases(models: list[str]) -> list[BlindCase]:
+    """A twenty-seventh blind set (issue 14), written and committed before any of it ran, the
+    first where of alternative causes the one that explains more is recalibrated, the reverse
+    on-top test starts where the forward one ended, and an effect on top of another is judged
+    against the joint solution with only it at its weak end. Seeds 2901-2932; strengths, seasons
+    and noise levels no earlier set used; every effect of each model and every generic one, with
+    time constants on the air-source flow thermometer (300 s, autumn) and the water-to-water
+    power meter (1500 s, winter), a clock 20 minutes early on the air-source logger and 45
+    minutes late on the water-to-water one, a +0.6 K water-to-water supply-thermometer offset,
+    an air-source power meter reading 6 % low, a 1.1 flow-meter gain; six null cases (tuners at
+    a bound, less and more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 240.0}, seed=2901, seasons=winter),
+        B(air, "heat_loss", strength={"UALossCon": 45.0, "UALossPipe": 8.0}, seed=2902, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 550.0}, seed=2903, seasons=autumn),
+        B(air, "post_run", strength={"tPostRun": 640.0}, seed=2904, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 270.15, "PBackup": 2000.0}, seed=2905, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 2100.0, "tDefrost": 600.0, "fDefrostQ": 0.45}, seed=2906, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 312.15, "dTCycHys": 5.5, "tCycMinRun": 500.0, "tCycMinOff": 1000.0}, seed=2907, seasons=autumn),
+        B(air, "clock_shift", shift_s=-1200.0, seed=2908, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.94)}, seed=2909, seasons=winter),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 300.0}, seed=2910, seasons=autumn),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.1}, seed=2911, seasons=autumn),
+        B(w2w, "heat_loss", strength={"UALossGen": 600.0}, seed=2912, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1100.0}, seed=2913, seasons=winter),
+        B(w2w, "post_run", strength={"tPostRun": 2800.0}, seed=2914, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 450.0}, seed=2915, seasons=winter),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 272.15, "PBackup": 6000.0}, seed=2916, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1500.0, "tCycMinOff": 2200.0, "plrCycMin": 0.35}, seed=2917, seasons=autumn),
+        B(w2w, "clock_shift", shift_s=2700.0, seed=2918, seasons=winter),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.6, 1.0)}, seed=2919, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 1500.0}, seed=2920, seasons=winter),
+        # null cases
+        B(air, None, seed=2921, seasons=autumn, noise_scale=0.6),
+        B(air, None, seed=2922, seasons=winter, noise_scale=1.5),
+        B(air, None, seed=2923, truth={"fQWarm": synth.MODELS[air].tuners["fQWarm"].upper}),
+        B(w2w, None, seed=2924, seasons=autumn, missing_fraction=0.08),
+        B(w2w, None, seed=2925, seasons=winter, noise_scale=1.2),
+        B(w2w, None, seed=2926, truth={"flowRatioSrcDem": synth.MODELS[w2w].tuners["flowRatioSrcDem"].lower}),
+        # two effects at once
+        B(air, "sensor_lag", also=("backup_heater",), seed=2930, seasons=winter),
+        B(air, "start_up_lag", also=("post_run",), seed=2931, seasons=autumn),
+        B(w2w, "heat_loss", also=("start_up_lag",), seed=2932, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1230,7 +1281,7 @@ BLIND_SETS = {
     "twentieth": twentieth_cases, "twenty_first": twenty_first_cases,
     "twenty_second": twenty_second_cases, "twenty_third": twenty_third_cases,
     "twenty_fourth": twenty_fourth_cases, "twenty_fifth": twenty_fifth_cases,
-    "twenty_sixth": twenty_sixth_cases,
+    "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
