@@ -262,18 +262,20 @@ def _split_at_gaps(wf: LoadedWorkflow, data: MeasuredData, kind: str, i: int, se
     jumps = np.flatnonzero(np.diff(rows.to_numpy()) > np.timedelta64(longest))
     if not len(jumps):
         return [seg]
-    pieces, dropped = [], 0
+    pieces, dropped, unscored = [], 0, pd.Timedelta(0)
     bounds = [(seg.sim_start, rows[jumps[0]])] + [(rows[a + 1], rows[b]) for a, b in zip(jumps[:-1], jumps[1:])] + [(rows[jumps[-1] + 1], seg.end)]
     for k, (sim_start, end) in enumerate(bounds):
         scored_from = max(seg.start, sim_start + warmup) if k else seg.start
+        if k:  # the warm-up after a gap (or the whole piece, where it is shorter) is not scored
+            unscored += max(min(scored_from, end) - max(sim_start, seg.start), pd.Timedelta(0))
         scored = index[(index >= scored_from) & (index <= end)]
         if len(scored) < 2:
             dropped += 1
             continue
         pieces.append(Segment(f"{kind}-{i}.{k}", scored[0], scored[-1], sim_start))
-    lost = (seg.end - seg.start) - sum((p.end - p.start for p in pieces), pd.Timedelta(0))
     note = (f"{kind} segment {i}: split at {len(jumps)} gap(s) longer than {_span(longest)} "
-            f"(data.segments.restart_after_gap); the model starts again after each, {lost.total_seconds() / 3600:.1f} h not scored"
+            f"(data.segments.restart_after_gap); the model starts again after each, {unscored.total_seconds() / 3600:.1f} h "
+            "of warm-up not scored"
             + (f", {dropped} piece(s) too short for the warm-up left out" if dropped else ""))
     if note not in data.notes:
         data.notes.append(note)
