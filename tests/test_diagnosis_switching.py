@@ -190,7 +190,7 @@ def test_a_further_claim_is_judged_again_on_top_of_the_effect_that_takes_the_lea
               ("clock_shift", "sensor_lag"): 0.0, ("clock_shift", "sensor_time_constant"): 0.02}
     tested = []
 
-    def added_on_top(ctx, base, base_result, added, results, folder, say):
+    def added_on_top(ctx, base, base_result, added, results, folder, say, joint_start=None):
         tested.append((base.name, added.name))
         return {"effect": f"{base.name}_and_{added.name}"}, beyond[base.name, added.name]
 
