@@ -446,7 +446,7 @@ def _describe(error: dict) -> str:
     if msg.startswith("Assertion failed, "):
         msg = msg[len("Assertion failed, ") :]
     value = error.get("input")
-    if kind not in ("missing",) and not isinstance(value, (dict, list)) and value is not None:
+    if kind not in ("missing",) and not isinstance(value, (dict, list)) and value is not None and f"got {value!r}" not in msg:
         return f"{msg} (got {value!r})"
     return msg
 
