@@ -263,7 +263,11 @@ def _split_at_gaps(wf: LoadedWorkflow, data: MeasuredData, kind: str, i: int, se
     if not len(jumps):
         return [seg]
     pieces, dropped, unscored = [], 0, pd.Timedelta(0)
-    bounds = [(seg.sim_start, rows[jumps[0]])] + [(rows[a + 1], rows[b]) for a, b in zip(jumps[:-1], jumps[1:])] + [(rows[jumps[-1] + 1], seg.end)]
+    # (simulation start, last sample) of each piece: the first from the segment's own start,
+    # every further one from the first sample after a gap
+    starts = [seg.sim_start] + [rows[j + 1] for j in jumps]
+    ends = [rows[j] for j in jumps] + [seg.end]
+    bounds = list(zip(starts, ends))
     for k, (sim_start, end) in enumerate(bounds):
         scored_from = max(seg.start, sim_start + warmup) if k else seg.start
         if k:  # the warm-up after a gap (or the whole piece, where it is shorter) is not scored

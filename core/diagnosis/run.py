@@ -14,7 +14,7 @@ from .context import build_context
 from .ranking import REOPENS_AT_MOST, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import caveats, control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
-from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate
+from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate, weak_end
 from .warmstart import local_fit
 from .where import analyse
 
@@ -118,7 +118,7 @@ def effect_parameters_at_bounds(addition: EffectAddition, values: dict[str, floa
             return {}
         # the weak end (the effect switched off: a heat loss of 0 W/K) is no sign of an effect
         # that needs more; it is the lower bound unless the parameter names its neutral value
-        weak = p.lower if p.neutral is None else p.neutral
+        weak = weak_end(p)
         at_lower, at_upper = bounds_reached(v, p.lower, p.upper, p.scale == "log")
         if not ((at_lower and weak != p.lower) or (at_upper and weak != p.upper)):
             return {}
@@ -336,7 +336,7 @@ def _added_on_top(ctx, base: Candidate, base_result: dict, added: Candidate, res
         start = dict(joint_start)
     else:
         start = dict(base_result.get("parameters", {}))
-        start.update({p.name: p.lower if p.neutral is None else p.neutral for p in added.addition.parameters})
+        start.update({p.name: weak_end(p) for p in added.addition.parameters})
     start = local_fit(ctx, None, both, start=start)
     # judged against the base alone and against the joint solution with the added effect at its
     # weak end: the joint search re-tunes too, and what that alone gains is not the effect's

@@ -168,6 +168,12 @@ def _before(ctx: Context) -> dict[str, float]:
     return dict(row["errors"] or {})
 
 
+def weak_end(parameter) -> float:
+    """An effect parameter's setting that switches the effect off: its neutral value where it
+    names one (a gain of 1, a shift of 0 s), else its lower bound (a heat loss of 0 W/K)."""
+    return parameter.lower if parameter.neutral is None else parameter.neutral
+
+
 def recalibrate(
     ctx: Context,
     effect: str,
@@ -225,8 +231,7 @@ def recalibrate(
         out["p_vs_control"] = improvement_p_value(out[RESIDUALS], control.get(RESIDUALS, {}), weights)
         out["p_vs_control_training"] = improvement_p_value(out[RESIDUALS_TRAINING], control.get(RESIDUALS_TRAINING, {}), weights)
         if ablate_only:
-            _against_effect_off(ctx, out, weights, prepared=prepared, off={p.name: p.lower if p.neutral is None else p.neutral
-                                                                            for p in ablate_only})
+            _against_effect_off(ctx, out, weights, prepared=prepared, off={p.name: weak_end(p) for p in ablate_only})
         elif ablate and (addition.switch or addition.around):
             _against_effect_off(ctx, out, weights)
     return out
