@@ -9,7 +9,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from simgap.diagnosis.ranking import Candidate, _window_mean, explained_by_lag, max_shift_test, moves_switches
+from simgap.diagnosis.ranking import (AS_SIMULATED_SLOT, Candidate, _window_mean, as_simulated_share, explained_by_lag,
+                                      max_shift_test, moves_switches)
 from simgap.diagnosis.run import _settled, may_take_the_lead, recalibration_choice
 from simgap.diagnosis.shrink import pinned, search_window
 from simgap.interfaces import EffectAddition
@@ -86,6 +87,37 @@ def test_model_and_generic_effects_take_turns_for_the_recalibrations():
     ranked[-1].envelope, ranked[-1].envelope_significant = {"P": {"share": 0.6, "chance": 0.1, "p_value": 1e-6}}, True
     assert [c.name for c in recalibration_choice(ranked, 3)] == ["clock", "cycling", "lag", "weak"]
     assert recalibration_choice(ranked, 0) == []
+
+
+def test_the_effect_that_removes_most_as_simulated_gets_a_slot_beyond_the_budget():
+    # a backup heater ranked low by its share once the bound power scale's change is cleared
+    ranked = [_candidate("gain", 0.9, True), _candidate("clock", 0.7, True), _candidate("lag", 0.6, False),
+              _candidate("loss", 0.5, False), _candidate("heater", 0.4, False)]
+    ranked[0].as_simulated, ranked[4].as_simulated = 0.43, 0.67
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["gain", "lag", "clock", "heater"]
+    # below the threshold, or not the one that removes most, it waits its turn
+    ranked[4].as_simulated = AS_SIMULATED_SLOT - 0.01
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["gain", "lag", "clock"]
+    ranked[4].as_simulated, ranked[1].as_simulated = 0.67, 0.8
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["gain", "lag", "clock"]
+    # one slot over both passes: the second pass takes the rest in order, no extra
+    ranked[1].as_simulated = 0.0
+    first = recalibration_choice(ranked, 3)
+    rest = [c for c in ranked if c not in first]
+    assert [c.name for c in recalibration_choice(rest, 3, everyone=ranked)] == ["loss"]
+    # not significant: no slot
+    ranked[4].significant = False
+    assert [c.name for c in recalibration_choice(ranked, 3)] == ["gain", "lag", "clock"]
+    assert recalibration_choice(ranked, 0) == []
+
+
+def test_the_as_simulated_share_is_what_the_change_removes_as_it_is():
+    r = np.array([1.0, 2.0, 3.0, np.nan])
+    mask = np.isfinite(r)
+    assert as_simulated_share(r, r, mask) == pytest.approx(1.0)
+    assert as_simulated_share(r, 0.5 * r, mask) == pytest.approx(0.75)
+    assert as_simulated_share(r, -r, mask) == pytest.approx(-3.0)
+    assert as_simulated_share(np.zeros(4), r, mask) == 0.0
 
 
 def test_of_two_effects_of_the_same_physics_only_the_models_own_is_recalibrated():

@@ -41,6 +41,11 @@ REOPENS_AT_MOST = 0.5
 """The share of a target's original gap that re-tuning alone closes and a claimed effect may
 leave open again (see :func:`simgap.diagnosis.run.reopened_targets`)."""
 
+AS_SIMULATED_SLOT = 0.5
+"""The share of a target's residual (sum of squares) an effect's simulated change must remove as
+it is, at one screened setting, to earn a recalibration beyond the budget when no other
+significant effect removes more (see :func:`simgap.diagnosis.run.recalibration_choice`)."""
+
 
 @dataclass
 class Candidate:
@@ -54,6 +59,10 @@ class Candidate:
     share: float = 0.0
     """Chance-corrected share of the residual (beyond the tuners) explained, mean over targets."""
     raw_share: float = 0.0
+    as_simulated: float = 0.0
+    """The most of a target's residual (sum of squares) the effect's simulated change at one
+    screened setting removes as it is: no fitted coefficient, no tuner's sensitivity cleared
+    (:func:`as_simulated_share`)."""
     p_value: float = 1.0
     per_target: dict[str, dict] = field(default_factory=dict)
     significant: bool = False
@@ -182,6 +191,7 @@ class Candidate:
             "features": self.features,
             "share": self.share,
             "raw_share": self.raw_share,
+            "as_simulated": self.as_simulated,
             "p_value": self.p_value,
             "significant": self.significant,
             "gap_shrink": self.gap_shrink,
@@ -198,6 +208,24 @@ class Candidate:
             "like_retuning": self.like_retuning,
             "equivalent": self.equivalent,
         }
+
+
+def as_simulated_share(residual: np.ndarray, change: np.ndarray, mask: np.ndarray) -> float:
+    """1 − SS(residual − change) / SS(residual) over ``mask``: how much of the residual the
+    simulated change removes as it is (negative where it makes the fit worse).
+
+    The screening's share clears the residual of every tuner's sensitivity first, so an effect
+    whose change a tuner at its bound has been standing in for scores low there: an air backup
+    heater running most of a winter record, which the power and heat scales were pushed to their
+    bounds to make up for, explained 36-39 % in the screening and 67-80 % as simulated (blind
+    cases 2305 and 2505)."""
+    m = mask & np.isfinite(residual) & np.isfinite(change)
+    r = np.asarray(residual, dtype=float)[m]
+    total = float(r @ r)
+    if not total > 0:
+        return 0.0
+    e = r - np.asarray(change, dtype=float)[m]
+    return 1.0 - float(e @ e) / total
 
 
 def _standardise(columns: dict[str, np.ndarray], mask: np.ndarray) -> tuple[list[str], np.ndarray]:
@@ -851,6 +879,9 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
                     cand.best_setting = settings[best]
         if alternatives and cand.best_setting is not None:
             cand.addition, cand.responses, cand.best_setting = only_the_best_alternative(cand.addition, cand.responses, cand.best_setting)
+        # of the settings the recalibration will start from (one reading's, for alternatives)
+        cand.as_simulated = max([0.0] + [as_simulated_share(residual[t], change[t], mask) for _, change in cand.responses
+                                         for t, (mask, _) in prepared_targets.items() if t in change])
         cand.min_shrink = config.min_shrink
         cand.min_share = config.min_share
         cand.confirm_significance = config.confirm_significance

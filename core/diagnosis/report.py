@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .context import ROLES, Context
-from .ranking import LIKE_RETUNING, REOPENS_AT_MOST
+from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, REOPENS_AT_MOST
 from .where import rolling_error, worst_windows
 
 
@@ -405,7 +405,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"that improvement is not chance (paired test of the squared errors against the control's, autocorrelation kept, "
               f"p ≤ {ctx.config.confirm_significance:g}), no target keeps more than {REOPENS_AT_MOST:.0%} of the gap that re-tuning alone closes on it "
               f"(an effect that fits some targets at another's cost stands in for a cause on fewer readings), and, beside a better-confirmed effect, it shrinks the gap further "
-              f"when added on top of that one. When none of the first recalibrations confirms its effect, the next significant "
+              f"when added on top of that one. The significant effect whose simulated change removes most of a target's residual "
+              f"as it is (no fitted coefficient, no tuner cleared), if at least {AS_SIMULATED_SLOT:.0%}, is recalibrated too "
+              f"(a tuner at its bound may have stood in for it). When none of the first recalibrations confirms its effect, the next significant "
               f"ones are recalibrated once more, at half that p-value. Before an effect other than a reading error is claimed, "
               f"a significant reading error (a thermometer's offset, a meter's gain) is recalibrated too and judged on every "
               f"target it reads: a tuner may have taken it up. A generic effect whose twin, the model's own effect of the same "
