@@ -1254,6 +1254,56 @@ def twenty_seventh_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def twenty_eighth_cases(models: list[str]) -> list[BlindCase]:
+    """A twenty-eighth blind set (issue 14), written and committed before any of it ran, the
+    first where the significant effect whose simulated change removes most of a target's
+    residual as it is gets a recalibration beyond the budget. Seeds 3001-3032; strengths, seasons
+    and noise levels no earlier set used; every effect of each model and every generic one, with
+    time constants on the air-source power meter (600 s, winter) and the water-to-water supply
+    thermometer (900 s, autumn), a clock 10 minutes late on the air-source logger and 30 minutes
+    early on the water-to-water one, a +0.4 K air-source flow-thermometer offset, a
+    water-to-water power meter reading 9 % high, a 0.9 flow-meter gain; six null cases (tuners
+    at a bound, less and more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 400.0}, seed=3001, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 30.0}, seed=3002, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 300.0}, seed=3003, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 420.0}, seed=3004, seasons=winter),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 3000.0}, seed=3005, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4200.0, "tDefrost": 300.0, "fDefrostQ": 0.55}, seed=3006, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 315.65, "dTCycHys": 3.0, "tCycMinRun": 900.0, "tCycMinOff": 600.0}, seed=3007, seasons=autumn),
+        B(air, "clock_shift", shift_s=600.0, seed=3008, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.4, 1.0)}, seed=3009, seasons=winter),
+        B(air, "sensor_time_constant", lag={"PEl_W": 600.0}, seed=3010, seasons=winter),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.9}, seed=3011, seasons=autumn),
+        B(w2w, "heat_loss", strength={"UALossGen": 350.0}, seed=3012, seasons=winter),
+        B(w2w, "sensor_lag", strength={"tauSensor": 800.0}, seed=3013, seasons=autumn),
+        B(w2w, "post_run", strength={"tPostRun": 2200.0}, seed=3014, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 750.0}, seed=3015, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 5000.0}, seed=3016, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 1800.0, "plrCycMin": 0.4}, seed=3017, seasons=winter),
+        B(w2w, "clock_shift", shift_s=-1800.0, seed=3018, seasons=autumn),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.09)}, seed=3019, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 900.0}, seed=3020, seasons=autumn),
+        # null cases
+        B(air, None, seed=3021, seasons=winter, noise_scale=1.1),
+        B(air, None, seed=3022, seasons=autumn, missing_fraction=0.05),
+        B(air, None, seed=3023, truth={"fPMed": synth.MODELS[air].tuners["fPMed"].lower}),
+        B(w2w, None, seed=3024, seasons=autumn, noise_scale=1.5),
+        B(w2w, None, seed=3025, seasons=winter, noise_scale=0.9),
+        B(w2w, None, seed=3026, truth={"dTCtrlBand": synth.MODELS[w2w].tuners["dTCtrlBand"].upper}),
+        # two effects at once
+        B(air, "heat_loss", also=("sensor_lag",), seed=3030, seasons=winter),
+        B(air, "cycling", also=("post_run",), seed=3031, seasons=autumn),
+        B(w2w, "backup_heater", also=("sensor_lag",), seed=3032, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1282,6 +1332,7 @@ BLIND_SETS = {
     "twenty_second": twenty_second_cases, "twenty_third": twenty_third_cases,
     "twenty_fourth": twenty_fourth_cases, "twenty_fifth": twenty_fifth_cases,
     "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
+    "twenty_eighth": twenty_eighth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
