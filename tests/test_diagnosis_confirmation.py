@@ -117,3 +117,26 @@ def test_the_number_of_starts_is_evidence_for_a_switching_effect():
     # a factor of two on a handful of starts is within chance
     assert switch_count_evidence(4, 2, [4])[0] is False
     assert switch_count_evidence(30, 12, []) == (False, None)
+
+
+def test_the_hour_after_a_gap_in_the_record_is_a_regime_and_the_verdict_names_it():
+    from simgap.diagnosis.report import verdict
+    from simgap.diagnosis.where import AFTER_GAP, after_gap, gap_warning
+
+    # 5-min samples; two segments; rows lost inside the first (a 40-min step at 2 h)
+    seconds = np.r_[np.arange(0, 7200, 300), np.arange(9600, 30000, 300), np.arange(40000, 50000, 300)].astype(float)
+    segment = np.r_[np.zeros(24 + 68), np.ones(34)]
+    mask = after_gap(seconds, segment)
+    assert mask is not None
+    marked = seconds[mask]
+    assert marked.min() == 9600.0 and marked.max() == 9600.0 + 3600.0
+    assert mask.sum() == 13  # the first sample after the gap and the hour after it
+    # a step between segments is no gap; nor is a record without lost rows
+    assert after_gap(np.arange(0, 3000, 300.0), np.zeros(10)) is None
+    where = {"regimes": {"T": {AFTER_GAP: {"time_share": 0.16, "error_share": 0.82, "rmse": 0.48, "mbe": 0.1}},
+                         "P": {AFTER_GAP: {"time_share": 0.16, "error_share": 0.20, "rmse": 16.0, "mbe": -2.0}}}}
+    said = gap_warning(where)
+    assert "82% of T's squared error in 16% of the time" in said and "restart_after_gap" in said
+    # as much of the error as of the time: nothing to say
+    assert gap_warning({"regimes": {"P": where["regimes"]["P"]}}) == ""
+    assert said in verdict([], None, said)

@@ -10,7 +10,7 @@ import numpy as np
 
 from .context import ROLES, Context
 from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, REOPENS_AT_MOST
-from .where import rolling_error, worst_windows
+from .where import gap_warning, rolling_error, worst_windows
 
 
 def _fmt(v, digits=3) -> str:
@@ -147,7 +147,7 @@ def _no_regimes(ctx) -> str:
             + " (declare them under diagnose.roles if the model has them)") if missing else "no regime holds enough samples"
 
 
-def verdict(candidates, control_shrink: float | None = None) -> str:
+def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> str:
     """Confirmed effects with their shrink; then those that shrank the gap beyond re-tuning but
     not beyond chance on this record (``Candidate.undecided``); then those whose recalibration
     only matched re-tuning because a tuner makes the same change (``Candidate.like_retuning``);
@@ -155,7 +155,9 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
     Where nothing is confirmed but re-tuning alone (the control, ``control_shrink``) shrinks the
     validation gap by at least the confirmation threshold, the calibration itself was short of
     its optimum, and the verdict says that first: it is the first thing to fix before any effect
-    is looked for."""
+    is looked for. ``gaps``: the clause on the record's gaps (:func:`simgap.diagnosis.where.gap_warning`),
+    said after the claims: lost rows can make an effect look confirmed (a blind null case with 4 %
+    of rows lost claimed an input gain that fitted the transients after its gaps)."""
     claimed = [c for c in candidates if c.claimed]
     named = {c.name for c in claimed}
     # a switch effect whose generic counterpart is confirmed adds nothing to the verdict
@@ -192,6 +194,8 @@ def verdict(candidates, control_shrink: float | None = None) -> str:
             parts.append(f"re-tuning without any effect shrinks the validation gap by {control_shrink:.0%} or more (the control, "
                          "part 3): the calibration stopped short of its optimum; run it longer, or from the control's solution, "
                          "before trusting it")
+    if gaps:
+        parts.append(gaps)
     parts += caveats(candidates)
     if possible:
         parts.append("possible, this model cannot take it: " + "; ".join(
@@ -248,7 +252,7 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "roles": ctx.roles,
         "role_sources": ctx.role_sources,
         "operation": ctx.operation,
-        "verdict": verdict(candidates, control_gap_shrink(shrink)),
+        "verdict": verdict(candidates, control_gap_shrink(shrink), gap_warning(where)),
         "claimed": [c.name for c in claimed],
         "where": where,
         "ranking": [c.as_dict() for c in candidates],
@@ -324,7 +328,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
     ]
     lines += _restart_markdown(restart)
     lines += [
-        f"**Verdict{' for the solution as calibrated' if restart else ''}: {verdict(candidates, control_gap_shrink(shrink))}.**",
+        f"**Verdict{' for the solution as calibrated' if restart else ''}: {verdict(candidates, control_gap_shrink(shrink), gap_warning(where))}.**",
         "",
     ]
     claimed = [c for c in candidates if c.claimed]

@@ -16,7 +16,7 @@ from .report import caveats, control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
 from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate, weak_end
 from .warmstart import local_fit
-from .where import analyse
+from .where import analyse, gap_warning
 
 def installed_effects(names: list[str] | None = None) -> list:
     registry = get_registry()
@@ -493,7 +493,7 @@ def diagnose(
     if not chain and not any(c.claimed for c in candidates) and unconverged(ctx, control):
         restart, again = restart_from_control(control, folder, ctx.config, say)
     t3 = time.perf_counter()
-    said = verdict(candidates, control_gap_shrink(shrink))
+    said = verdict(candidates, control_gap_shrink(shrink), gap_warning(where))
     if again is not None:
         said = f"{restart['why']}; diagnosed from the re-tuned solution: {again['verdict']}"
         # what re-tuning took up stays said (a heat loss a capacity scale makes up for)

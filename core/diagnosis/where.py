@@ -87,6 +87,56 @@ def cycles(state: np.ndarray, seconds: np.ndarray, segment: np.ndarray) -> dict:
     }
 
 
+AFTER_GAP = "first hour after a gap in the record"
+"""The regime of the samples within an hour after rows are missing inside a segment."""
+
+
+def after_gap(seconds: np.ndarray, segment: np.ndarray, hour: float = 3600.0) -> np.ndarray | None:
+    """Samples within ``hour`` after a gap inside a segment (a step more than three times the
+    segment's median), or None where there is no such gap. Through a gap the model runs on
+    inputs interpolated across it, and its state can take an hour to forget that: in a blind
+    null case with 4 % of rows lost, the flow temperature's error at the true parameters was
+    0.89 K in the half hour after a gap against 0.05 K noise, and the diagnosis claimed an
+    input gain that fitted those transients (``data.segments.restart_after_gap`` restarts the
+    model after each gap)."""
+    t = np.asarray(seconds, dtype=float)
+    seg = np.asarray(segment)
+    if len(t) < 3:
+        return None
+    dt = np.diff(t)
+    same = np.diff(seg) == 0
+    if not same.any():
+        return None
+    typical = float(np.median(dt[same]))
+    jumps = np.flatnonzero(same & (dt > 3.0 * typical)) + 1  # the first sample after each gap
+    if not jumps.size:
+        return None
+    out = np.zeros(len(t), dtype=bool)
+    for j in jumps:
+        k = j
+        while k < len(t) and seg[k] == seg[j] and t[k] - t[j] <= hour:
+            out[k] = True
+            k += 1
+    return out
+
+
+def gap_warning(where: dict, clearly: float = 1.5) -> str:
+    """The verdict's clause where the hour after the record's gaps holds clearly more of a
+    target's squared error than of its time (the report's **←**), else ''."""
+    worst = None
+    for t, rows in (where.get("regimes") or {}).items():
+        r = rows.get(AFTER_GAP)
+        if r and r["error_share"] > clearly * r["time_share"] and r["error_share"] > 0.1:
+            if worst is None or r["error_share"] / r["time_share"] > worst[1]["error_share"] / worst[1]["time_share"]:
+                worst = (t, r)
+    if worst is None:
+        return ""
+    t, r = worst
+    return (f"the hour after the record's gaps holds {r['error_share']:.0%} of {t}'s squared error in {r['time_share']:.0%} "
+            "of the time: the model runs through a gap on inputs interpolated across it; data.segments.restart_after_gap "
+            "starts it again after each gap, and a diagnosis of that calibration is the one to trust")
+
+
 def regimes(ctx: Context) -> dict[str, np.ndarray]:
     """Boolean masks of operating regimes over the joined time grid."""
     data = ctx.data()
@@ -114,6 +164,9 @@ def regimes(ctx: Context) -> dict[str, np.ndarray]:
             out["defrost-prone (-12..7 degC, RH > 70 %)"] = (c > -12.0) & (c < 7.0) & (np.asarray(humidity) > 0.7) & (
                 on > 0.5 if on is not None else True
             )
+    gap = after_gap(data.time, data.segment)
+    if gap is not None:
+        out[AFTER_GAP] = gap
     flow = data.role("flow")
     if flow is not None:
         f = np.asarray(flow)
