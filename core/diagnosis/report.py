@@ -10,7 +10,7 @@ import numpy as np
 
 from .context import ROLES, Context
 from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, REOPENS_AT_MOST
-from .where import gap_warning, rolling_error, worst_windows
+from .where import gap_warning, holds_more_error, rolling_error, worst_windows
 
 
 def _fmt(v, digits=3) -> str:
@@ -378,7 +378,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
         lines += ["### By operating regime", "", "| target | regime | share of time | share of squared error | RMSE | MBE |", "|---|---|---|---|---|---|"]
         for t, rows in where["regimes"].items():
             for regime, r in sorted(rows.items(), key=lambda kv: -kv[1]["error_share"]):
-                flag = " **←**" if r["error_share"] > 1.5 * r["time_share"] and r["error_share"] > 0.1 else ""
+                flag = " **←**" if holds_more_error(r) else ""
                 lines.append(f"| {t} | {regime}{flag} | {_pct(r['time_share'])} | {_pct(r['error_share'])} | {_fmt(r['rmse'])} | {_fmt(r['mbe'])} |")
         lines += ["", "**←**: the regime holds clearly more of the error than of the time.", ""]
         if "regimes" in figs:

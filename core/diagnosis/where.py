@@ -120,13 +120,18 @@ def after_gap(seconds: np.ndarray, segment: np.ndarray, hour: float = 3600.0) ->
     return out
 
 
-def gap_warning(where: dict, clearly: float = 1.5) -> str:
+def holds_more_error(row: dict) -> bool:
+    """A regime's row holds clearly more of the error than of the time (the report's **←**)."""
+    return row["error_share"] > 1.5 * row["time_share"] and row["error_share"] > 0.1
+
+
+def gap_warning(where: dict) -> str:
     """The verdict's clause where the hour after the record's gaps holds clearly more of a
-    target's squared error than of its time (the report's **←**), else ''."""
+    target's squared error than of its time (:func:`holds_more_error`), else ''."""
     worst = None
     for t, rows in (where.get("regimes") or {}).items():
         r = rows.get(AFTER_GAP)
-        if r and r["error_share"] > clearly * r["time_share"] and r["error_share"] > 0.1:
+        if r and holds_more_error(r):
             if worst is None or r["error_share"] / r["time_share"] > worst[1]["error_share"] / worst[1]["time_share"]:
                 worst = (t, r)
     if worst is None:
