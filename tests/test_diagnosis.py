@@ -199,6 +199,40 @@ def test_the_verdict_says_when_re_tuning_alone_closes_the_gap():
     assert "re-tuning alone does nearly as well as lag (with it the gap shrinks 30%, beyond re-tuning 5%)" in text
 
 
+def test_the_verdict_names_where_the_screening_pointed_when_the_recalibration_did_not_bear_it_out():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+    from simgap.interfaces import EffectAddition
+
+    addable = EffectAddition(switch={"useIt": 1.0}, parameters=())
+    # the figures of a blind water-to-water cycling case (seed 2517): ranked first, 42 % of the
+    # residual, recalibrated, 6 % of the gap closed and 1 % beyond re-tuning
+    cycling = Candidate("cycling", "", "", True, significant=True, confirm=True, min_shrink=0.2, share=0.42, p_value=1e-5,
+                        addition=addable)
+    cycling.gap_shrink, cycling.shrink_vs_control, cycling.p_vs_control = 0.06, 0.01, 0.23
+    cycling.moved_switches = True
+    weak = Candidate("post_run", "", "", True, significant=True, confirm=True, min_shrink=0.2, share=0.09, p_value=1e-3, addition=addable)
+    weak.gap_shrink, weak.shrink_vs_control, weak.p_vs_control = 0.02, -0.01, 0.6
+    assert cycling.not_confirmed and weak.not_confirmed and not cycling.claimed
+    text = verdict([cycling, weak], control_shrink=0.05)
+    assert text.startswith("no confirmed unmodelled effect; the screening pointed at cycling (42% of the residual, p = 1e-05; "
+                           "recalibrated with it, the validation gap shrinks 6%, 1% beyond re-tuning), not confirmed: "
+                           "a switching effect's times"), text
+    assert "post_run" not in text  # a small share in the screening: not named
+    # not a switching effect: no word on narrow fits
+    cycling.moved_switches = False
+    assert "switching" not in verdict([cycling, weak], control_shrink=0.05)
+    # a claim elsewhere: the verdict is about the claim, not where else the screening pointed
+    lag = Candidate("sensor_lag", "", "", True, significant=True, confirm=True, min_shrink=0.2, share=0.3, addition=addable)
+    lag.gap_shrink, lag.shrink_vs_control, lag.p_vs_control = 0.7, 0.6, 0.001
+    assert "screening pointed" not in verdict([lag, cycling], control_shrink=0.05)
+    # undecided and like re-tuning keep their own clauses
+    cycling.gap_shrink, cycling.shrink_vs_control, cycling.p_vs_control = 0.5, 0.4, 0.2
+    assert cycling.undecided and not cycling.not_confirmed
+    # nothing screened significant: nothing found
+    assert verdict([weak.__class__("x", "", "", True)], control_shrink=0.0).startswith("no significant unmodelled effect")
+
+
 def test_noise_floor_and_lag_and_cycles():
     rng = np.random.default_rng(1)
     t = np.arange(0, 20000.0, 10.0)

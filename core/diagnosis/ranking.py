@@ -175,6 +175,16 @@ class Candidate:
                 and self.p_vs_control is not None and self.p_vs_control > self.confirm_significance
                 and (self.beyond_first is None or self.beyond_first >= self.min_shrink))
 
+    @property
+    def not_confirmed(self) -> bool:
+        """Significant in the screening (or on its envelope or start count), recalibrated, and
+        the recalibration shrank the gap neither beyond re-tuning nor beyond it by chance alone:
+        the screening pointed here and the fit did not bear it out. The verdict names the
+        strongest such ones where nothing is claimed, so that "nothing found" never hides where
+        the screening pointed (a switching effect's fit can be too narrow for the search)."""
+        return ((self.significant or self.envelope_significant or self.count_evidence) and self.gap_shrink is not None
+                and not self.claimed and not self.undecided and not self.like_retuning and not self.reopened)
+
     def as_dict(self) -> dict:
         return {
             "name": self.name,
