@@ -142,6 +142,13 @@ def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, eff
     assert result["claimed"][:1] == [effect], [(c.name, c.gap_shrink, c.shrink_vs_control, c.p_vs_control) for c in ranking]
     text = Path(result["report"]).read_text()
     assert f"most likely unmodelled effect: {effect}" in text
+    # the ranking table gives each simulated effect's share as simulated beside the screening's
+    header = "| rank | effect | share | p | as simulated |"
+    assert header in text
+    found = next(c for c in ranking if c.name == effect)
+    table = text[text.index(header):].split("\n\n")[0].splitlines()
+    row = next(line for line in table if line.split("|")[2].strip() == effect)
+    assert row.split("|")[5].strip() == f"{100 * found.as_simulated:.0f} %", (row, found.as_simulated)
     derived = next(r for r in result["recalibration"] if r["effect"] == effect)
     assert derived["gap_shrink"] > 0.5, derived
     if shift_s is not None:  # the shift itself found, not its range's bound

@@ -443,9 +443,11 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"a significant reading error (a thermometer's offset, a meter's gain) is recalibrated too and judged on every "
               f"target it reads: a tuner may have taken it up. A generic effect whose twin, the model's own effect of the same "
               f"physics, was recalibrated in its place and lost to the claim is recalibrated too. "
-              f"The rank orders recalibrated effects by their shrink, then the rest by share.", ""]
-    lines += ["| rank | effect | share | p | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
-              "|---|---|---|---|---|---|---|---|---|"]
+              f"The rank orders recalibrated effects by their shrink, then the rest by share. *As simulated* is the most "
+              f"that one screened setting's simulated change removes of a target's residual as it is (— where the effect "
+              f"cannot be simulated on this model).", ""]
+    lines += ["| rank | effect | share | p | as simulated | per target (share, p) | significant | validation-gap shrink | claimed | what it is |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
     rank = 0
     for c in candidates:
         if not c.applicable:
@@ -465,7 +467,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
         if c.gap_shrink is not None and tuner is not None and share >= 0.5:
             shrunk += f"; re-tuning {tuner} reproduces {_pct(share)} of its change of {target}"
         lines.append(
-            f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
+            f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {_pct(c.as_simulated) if c.addition is not None else '—'} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
             f"{'**yes**' if c.claimed else 'no'} | {c.description} |"
         )
     present = [c for c in candidates if c.in_model]
