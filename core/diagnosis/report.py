@@ -160,9 +160,10 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     not beyond chance on this record (``Candidate.undecided``); then those whose recalibration
     only matched re-tuning because a tuner makes the same change (``Candidate.like_retuning``);
     where nothing is claimed, the two the screening pointed at most strongly (``POINTED_SHARE``)
-    whose recalibration did not bear them out (``Candidate.not_confirmed``;
-    the verdict of a blind water-to-water cycling case said "no significant unmodelled effect"
-    where cycling had explained 42 % of the residual); then significant ones this model cannot take (and what would test them); else nothing found.
+    whose recalibration did not bear them out (``Candidate.not_confirmed``; the verdict of a
+    blind water-to-water cycling case said "no significant unmodelled effect" where cycling had
+    explained 42 % of the residual); then significant ones this model cannot take (and what
+    would test them); else nothing found.
     Where nothing is confirmed but re-tuning alone (the control, ``control_shrink``) shrinks the
     validation gap by at least the confirmation threshold, the calibration itself was short of
     its optimum, and the verdict says that first: it is the first thing to fix before any effect
