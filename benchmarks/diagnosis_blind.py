@@ -763,7 +763,7 @@ def seventeenth_cases(models: list[str]) -> list[BlindCase]:
 
 def eighteenth_cases(models: list[str]) -> list[BlindCase]:
     """An eighteenth blind set (issue 14), written and committed before any of it ran, the first
-    with an original gap within the noise counted as one noise variance (``shrink._versus``).
+    with an original gap within the noise counted as one noise variance (``shrink.beyond_control``).
     Seeds 2001-2032; strengths, seasons and noise levels no earlier set used, several of them
     weak (the rule must not lose small true effects); every effect of each model and every
     generic one, with an offset on the air-source flow thermometer, a time constant on its power
@@ -1515,7 +1515,7 @@ def room_for_an_effect(result: dict) -> bool | None:
     comparison. None where the case's diagnosis or its control is not on disk. Where there is no
     room, the tuners reproduce what the withheld effect does on these data (a heat loss that a
     capacity scale takes up), and no effect can be confirmed whatever the screening finds."""
-    from simgap.diagnosis.shrink import _versus
+    from simgap.diagnosis.shrink import beyond_control
 
     report = result.get("report")
     path = Path(report).with_name("diagnosis.json") if report else None
@@ -1526,7 +1526,7 @@ def room_for_an_effect(result: dict) -> bool | None:
     if control is None:
         return None
     perfect = {t: {**v, "rmse_after": v.get("noise_before", v["noise"])} for t, v in control["above_noise"].items()}
-    per_target, _ = _versus(perfect, control["above_noise"], {})
+    per_target, _ = beyond_control(perfect, control["above_noise"], {})
     values = [v for v in per_target.values() if math.isfinite(v)]
     return bool(values) and max(values) >= diagnosis["settings"]["min_shrink"]
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from simgap.diagnosis.ranking import switch_count_evidence, unexplained_targets
-from simgap.diagnosis.shrink import _versus
+from simgap.diagnosis.shrink import beyond_control
 
 
 def _context(measured: dict, simulated: dict):
@@ -68,7 +68,7 @@ def test_near_the_floor_confirmation_is_measured_against_the_original_gap():
     # although it removes most of the small gap the control left
     control = {"T": _above(0.109, 0.066, 0.050)}
     effect = {"T": _above(0.109, 0.052, 0.050)}
-    per_target, share = _versus(effect, control, {"T": 1.0})
+    per_target, share = beyond_control(effect, control, {"T": 1.0})
     left_by_control = 1 - np.sqrt(0.052**2 - 0.05**2) / np.sqrt(0.066**2 - 0.05**2)
     assert left_by_control > 0.6  # measured against the control's gap: a "confirmed" 67 %
     assert share == pytest.approx((0.066**2 - 0.052**2) / (0.109**2 - 0.05**2))
@@ -76,7 +76,7 @@ def test_near_the_floor_confirmation_is_measured_against_the_original_gap():
     # a control already at the floor leaves the effect nothing to claim
     control = {"T": _above(0.3, 0.049, 0.05)}
     effect = {"T": _above(0.3, 0.045, 0.05)}
-    assert _versus(effect, control, {"T": 1.0})[1] == 0.0
+    assert beyond_control(effect, control, {"T": 1.0})[1] == 0.0
 
 
 def test_an_original_gap_within_the_noise_counts_as_one_noise_variance():
@@ -85,13 +85,13 @@ def test_an_original_gap_within_the_noise_counts_as_one_noise_variance():
     # of a noise variance, no finding
     control = {"T": _above(0.0589, 0.0540, 0.0504)}
     effect = {"T": _above(0.0589, 0.0514, 0.0504)}
-    share = _versus(effect, control, {"T": 1.0})[1]
+    share = beyond_control(effect, control, {"T": 1.0})[1]
     assert share == pytest.approx((0.0540**2 - 0.0514**2) / 0.0504**2)
     assert share < 0.2 < (0.0540**2 - 0.0514**2) / (0.0589**2 - 0.0504**2)
     # the same removal from an original gap of one noise variance and more is measured on it
     control = {"T": _above(0.0713, 0.0540, 0.0504)}
     effect = {"T": _above(0.0713, 0.0514, 0.0504)}
-    assert _versus(effect, control, {"T": 1.0})[1] == pytest.approx((0.0540**2 - 0.0514**2) / (0.0713**2 - 0.0504**2))
+    assert beyond_control(effect, control, {"T": 1.0})[1] == pytest.approx((0.0540**2 - 0.0514**2) / (0.0713**2 - 0.0504**2))
 
 
 def test_a_gap_the_control_leaves_well_above_the_noise_is_the_measure():
@@ -99,11 +99,11 @@ def test_a_gap_the_control_leaves_well_above_the_noise_is_the_measure():
     # over a 0.014 K floor: most of what the control left, a clear finding
     control = {"T": _above(0.435, 0.18, 0.014)}
     effect = {"T": _above(0.435, 0.038, 0.014)}
-    share = _versus(effect, control, {"T": 1.0})[1]
+    share = beyond_control(effect, control, {"T": 1.0})[1]
     assert share == pytest.approx(1 - np.sqrt(0.038**2 - 0.014**2) / np.sqrt(0.18**2 - 0.014**2))
     assert share > 0.8
     # targets count by the effect's weights
-    both = _versus({**effect, "P": _above(30, 12, 0.0)}, {**control, "P": _above(30, 12, 0.0)}, {"T": 1.0, "P": 0.0})[1]
+    both = beyond_control({**effect, "P": _above(30, 12, 0.0)}, {**control, "P": _above(30, 12, 0.0)}, {"T": 1.0, "P": 0.0})[1]
     assert both == pytest.approx(share)
 
 

@@ -124,9 +124,15 @@ class Candidate:
     """(effect parameter values, simulated change per target) at every screened setting."""
 
     @property
+    def pointed_at(self) -> bool:
+        """The screening pointed here: significant on the samples, on the envelopes or by the
+        start count (the latter two earn a recalibration, not a claim on their own)."""
+        return self.significant or self.envelope_significant or self.count_evidence
+
+    @property
     def claimed(self) -> bool:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap."""
-        if not (self.significant or ((self.envelope_significant or self.count_evidence) and self.gap_shrink is not None)):
+        if not (self.significant or (self.pointed_at and self.gap_shrink is not None)):
             return False
         if self.gap_shrink is None:
             # not recalibrated: claimed on its signature only when no recalibration was asked
@@ -182,7 +188,7 @@ class Candidate:
         the screening pointed here and the fit did not bear it out. The verdict names the
         strongest such ones where nothing is claimed, so that "nothing found" never hides where
         the screening pointed (a switching effect's fit can be too narrow for the search)."""
-        return ((self.significant or self.envelope_significant or self.count_evidence) and self.gap_shrink is not None
+        return (self.pointed_at and self.gap_shrink is not None
                 and not self.claimed and not self.undecided and not self.like_retuning and not self.reopened)
 
     def as_dict(self) -> dict:

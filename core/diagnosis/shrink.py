@@ -224,8 +224,8 @@ def recalibrate(
         # effect's weights favour, which credited an effect with a tuner's freedom)
         control = _control_picked_for(ctx, control, weights)
         out["control_solution"] = control.get("solution")
-        out["shrink_vs_control"], out["gap_shrink_vs_control"] = _versus(out["above_noise"], control["above_noise"], weights)
-        out["shrink_vs_control_training"], out["gap_shrink_vs_control_training"] = _versus(
+        out["shrink_vs_control"], out["gap_shrink_vs_control"] = beyond_control(out["above_noise"], control["above_noise"], weights)
+        out["shrink_vs_control_training"], out["gap_shrink_vs_control_training"] = beyond_control(
             out["above_noise_training"], control.get("above_noise_training", {}), weights
         )
         out["p_vs_control"] = improvement_p_value(out[RESIDUALS], control.get(RESIDUALS, {}), weights)
@@ -261,8 +261,8 @@ def _against_effect_off(ctx: Context, out: dict, weights: dict[str, float], prep
     above_training = _above_noise(ctx, prepared, params, "training", residuals=off_training)
     if not above or not above_training:
         return
-    _, gap = _versus(out["above_noise"], above, weights)
-    _, gap_training = _versus(out["above_noise_training"], above_training, weights)
+    _, gap = beyond_control(out["above_noise"], above, weights)
+    _, gap_training = beyond_control(out["above_noise_training"], above_training, weights)
     p = improvement_p_value(out[RESIDUALS], off_residuals, weights)
     p_training = improvement_p_value(out[RESIDUALS_TRAINING], off_training, weights)
     out["gap_shrink_vs_effect_off"], out["p_vs_effect_off"] = gap, p
@@ -359,7 +359,7 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
     return min(1.0, min(ps) * len(ps)) if ps else math.nan
 
 
-def _versus(mine: dict, control: dict, weights: dict) -> tuple[dict, float]:
+def beyond_control(mine: dict, control: dict, weights: dict) -> tuple[dict, float]:
     """Per target, the share of the gap the effect removes beyond the control, and its weighted
     mean. One noise floor throughout, the diagnosed solution's residual's (before, the floor was
     estimated again from each residual it was compared with).
