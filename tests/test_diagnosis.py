@@ -522,6 +522,34 @@ def test_the_verdict_names_an_effect_beyond_re_tuning_but_not_beyond_chance():
     assert not gain.undecided and gain.like_retuning
 
 
+def test_an_effect_no_better_on_the_training_data_it_was_fitted_to_is_not_claimed():
+    """A blind null case (an air unit's 10-s record, no effect withheld): a dead band on the fan
+    input shrank the validation gap 35 % beyond re-tuning (p = 0.002) but fitted the training data
+    19 % worse than re-tuning alone. Its validation gain is where the searches ended, not the
+    effect: not claimed, and the verdict says why."""
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import caveats, verdict
+
+    delay = Candidate("on_off_delay", "", "", True, significant=True, confirm=True, min_shrink=0.2, share=0.3, p_value=1e-6)
+    delay.gap_shrink, delay.shrink_vs_control, delay.p_vs_control = 0.5, 0.35, 0.0024
+    delay.training_shrink_vs_control = -0.19
+    assert delay.fitted_no_better and not delay.claimed
+    assert not (delay.undecided or delay.like_retuning or delay.not_confirmed)
+    text = verdict([delay], control_shrink=0.05)
+    assert text.startswith("no confirmed unmodelled effect; not claimed, no better than re-tuning alone on the training "
+                           "data it was fitted to: on_off_delay (beyond re-tuning -19% on training, 35% on validation)")
+    assert any("on_off_delay" in c for c in caveats([delay]))  # kept by a diagnosis re-started from the re-tuned solution
+    # half the confirmation threshold on training is enough (the lowest right claim had 19 %)
+    delay.training_shrink_vs_control = 0.1
+    assert delay.claimed and not delay.fitted_no_better
+    # confirmed on the training data (no validation sample holds the effect): the rule has nothing to compare
+    delay.training_shrink_vs_control = None
+    assert delay.claimed
+    # under the threshold on validation: not this rule's business (like re-tuning, or not confirmed)
+    delay.shrink_vs_control, delay.training_shrink_vs_control = 0.1, -0.3
+    assert not delay.fitted_no_better and not delay.claimed
+
+
 def test_a_switching_effect_is_weighed_where_its_envelope_stands_out():
     """Winter cycling the model lacks: out of phase with the record, it explained 1 % of the
     power's residual sample by sample but 56 % of its envelope. Its recalibration is judged on

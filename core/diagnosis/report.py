@@ -206,7 +206,8 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     else:
         # "significant" is the screening's word: once a significant effect has been recalibrated
         # and not borne out, nothing was confirmed, which is not the same as nothing significant
-        parts.append("no significant unmodelled effect" if not (possible or alike or undecided or rejected)
+        unfitted = [c for c in candidates if c.applicable and c.fitted_no_better]
+        parts.append("no significant unmodelled effect" if not (possible or alike or undecided or rejected or unfitted)
                      else "no confirmed unmodelled effect")
         threshold = max((c.min_shrink for c in candidates), default=0.2)  # the screened ones carry the setting
         if control_shrink is not None and control_shrink == control_shrink and control_shrink >= threshold:
@@ -233,9 +234,10 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
 
 
 def caveats(candidates) -> list[str]:
-    """The verdict's clauses on effects that shrank the gap but were not confirmed: beyond
-    re-tuning but not beyond chance, or no further than re-tuning alone (with the tuner that
-    makes the same change). A diagnosis started again from the re-tuned solution keeps them."""
+    """The verdict's clauses on effects that shrank the gap but were not confirmed: fitting one
+    target at another's cost, beyond re-tuning on validation but not on the training data they
+    were fitted to, beyond re-tuning but not beyond chance, or no further than re-tuning alone
+    (with the tuner that makes the same change). A diagnosis started again from the re-tuned solution keeps them."""
     alike = [c for c in candidates if c.applicable and c.like_retuning][:2]
     undecided = [c for c in candidates if c.applicable and c.undecided][:2]
     parts = []
@@ -244,6 +246,11 @@ def caveats(candidates) -> list[str]:
         parts.append("not claimed, each fits some targets at another's cost: " + "; ".join(
             f"{c.name} (" + ", ".join(f"leaves {v:.0%} of the gap on {t} that re-tuning alone closes" for t, v in c.reopened.items())
             + ")" for c in traded))
+    unfitted = [c for c in candidates if c.applicable and c.fitted_no_better][:2]
+    if unfitted:
+        parts.append("not claimed, no better than re-tuning alone on the training data it was fitted to: " + "; ".join(
+            f"{c.name} (beyond re-tuning {c.training_shrink_vs_control:.0%} on training, {c.shrink_vs_control:.0%} on validation)"
+            for c in unfitted))
     if undecided:
         parts.append("undecided on this record: " + "; ".join(
             f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}, "
@@ -462,6 +469,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             shrunk = "cannot be added to this model: possible, not confirmed"
         if c.beyond_first is not None:
             shrunk += f"; on top of {c.first}: {_pct(c.beyond_first)} more"
+        if c.fitted_no_better:
+            shrunk += f"; on the training data only {_pct(c.training_shrink_vs_control)} beyond re-tuning"
         if c.reopened:
             shrunk += "; leaves " + ", ".join(f"{_pct(v)} of the gap on {t}" for t, v in c.reopened.items()) + " that re-tuning alone closes"
         share, tuner, target = c.reproduced()

@@ -584,6 +584,7 @@ def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Pa
             result["effect_at_bounds"] = cand.at_bounds
             cand.shrink_vs_control = result.get("gap_shrink_vs_control")
             cand.p_vs_control = result.get("p_vs_control")
+            cand.training_shrink_vs_control = result.get("gap_shrink_vs_control_training")
             if acts_mostly_in_training(ctx, cand):
                 # the validation data hold (almost) none of what the effect changes (no start in
                 # them, no cold spell...): only the training data can confirm it
@@ -591,6 +592,7 @@ def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Pa
                 cand.gap_shrink = result.get("gap_shrink_training", cand.gap_shrink)
                 cand.shrink_vs_control = result.get("gap_shrink_vs_control_training", cand.shrink_vs_control)
                 cand.p_vs_control = result.get("p_vs_control_training", cand.p_vs_control)
+                cand.training_shrink_vs_control = None  # confirmed on the data it was fitted to
             else:
                 result["confirmed_on"] = "validation"
             cand.reopened = reopened_targets(result, training=result["confirmed_on"] == "training")
