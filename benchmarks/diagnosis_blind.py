@@ -1356,6 +1356,58 @@ def twenty_ninth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirtieth_cases(models: list[str]) -> list[BlindCase]:
+    """A thirtieth blind set (issue 14), written and committed before any of it ran, the first
+    whose claims need the effect to fit the training data better than re-tuning alone
+    (``ranking.TRAINING_AT_LEAST``). Seeds 3201-3232; strengths, seasons and noise levels chosen
+    afresh; every effect of each model and every generic one, with time constants on the
+    air-source power meter (400 s, winter) and the water-to-water supply thermometer (700 s,
+    autumn), a clock 15 minutes late on the air-source logger and 30 minutes early on the
+    water-to-water one, an air-source power meter reading 7 % low, a -0.4 K water-to-water
+    supply-thermometer offset, an air-source flow meter logged 10 % low and a water-to-water
+    pyranometer 30 % high; six null cases (tuners at a bound, less and more noise, lost rows);
+    three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 380.0}, seed=3201, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 25.0}, seed=3202, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 260.0}, seed=3203, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 750.0}, seed=3204, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 3500.0}, seed=3205, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 2700.0, "tDefrost": 480.0, "fDefrostQ": 0.5}, seed=3206, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 311.65, "dTCycHys": 3.5, "tCycMinRun": 600.0, "tCycMinOff": 900.0}, seed=3207, seasons=winter),
+        B(air, "clock_shift", shift_s=900.0, seed=3208, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.93)}, seed=3209, seasons=winter),
+        B(air, "sensor_time_constant", lag={"PEl_W": 400.0}, seed=3210, seasons=winter),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.9}, seed=3211, seasons=autumn),
+        B(w2w, "heat_loss", strength={"UALossGen": 350.0}, seed=3212, seasons=winter),
+        B(w2w, "sensor_lag", strength={"tauSensor": 700.0}, seed=3213, seasons=autumn),
+        B(w2w, "post_run", strength={"tPostRun": 1100.0}, seed=3214, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1000.0}, seed=3215, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 272.65, "PBackup": 5000.0}, seed=3216, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1500.0, "tCycMinOff": 2000.0, "plrCycMin": 0.45}, seed=3217, seasons=winter),
+        B(w2w, "clock_shift", shift_s=-1800.0, seed=3218, seasons=autumn),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.4, 1.0)}, seed=3219, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 700.0}, seed=3220, seasons=autumn),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 1.3}, seed=3221, seasons=autumn),
+        # null cases
+        B(air, None, seed=3222, seasons=winter, noise_scale=0.8),
+        B(air, None, seed=3223, seasons=autumn, missing_fraction=0.06),
+        B(air, None, seed=3224, truth={"fQMed": synth.MODELS[air].tuners["fQMed"].lower}),
+        B(w2w, None, seed=3225, seasons=autumn, noise_scale=1.5),
+        B(w2w, None, seed=3226, seasons=winter, missing_fraction=0.06),
+        B(w2w, None, seed=3227, truth={"hCutIn": synth.MODELS[w2w].tuners["hCutIn"].upper}),
+        # two effects at once
+        B(air, "sensor_lag", also=("defrost",), seed=3230, seasons=winter),
+        B(w2w, "heat_loss", also=("post_run",), seed=3231, seasons=autumn),
+        B(air, "defrost", also=("post_run",), seed=3232, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1384,7 +1436,7 @@ BLIND_SETS = {
     "twenty_second": twenty_second_cases, "twenty_third": twenty_third_cases,
     "twenty_fourth": twenty_fourth_cases, "twenty_fifth": twenty_fifth_cases,
     "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
-    "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases,
+    "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
