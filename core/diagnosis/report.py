@@ -189,6 +189,10 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
             value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
             return f" (gap shrink {value:.0%} beyond re-tuning)" if value is not None and value == value else ""
 
+        def beyond(c):
+            value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
+            return f"gap shrink {value:.0%} beyond re-tuning; " if value is not None and value == value else ""
+
         parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
         if claimed[0].at_bounds:
             parts.append("but its recalibration left " + ", ".join(f"{n} = {v:.4g}" for n, v in claimed[0].at_bounds.items())
@@ -197,10 +201,11 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
         twins = [c.name for c in candidates if c.twin_of == claimed[0].name]
         if twins:
             parts.append(f"the same physics as {', '.join(twins)}, recalibrated as the model's own only")
-        equivalent = [n for n in claimed[0].equivalent if n not in named]
+        by_name = {c.name: c for c in candidates}
+        equivalent = [by_name[n] for n in claimed[0].equivalent if n not in named and n in by_name]
         if equivalent:
-            parts.append(f"as good on these data, not told apart from it: {', '.join(equivalent)} "
-                         "(named second: more parameters, or generic where the model has its own switch)")
+            parts.append("as good on these data, not told apart from it: "
+                         + ", ".join(f"{c.name} ({beyond(c)}named second: {named_second(claimed[0], c)})" for c in equivalent))
         if len(claimed) > 1:
             parts.append("also confirmed: " + ", ".join(c.name + shrink(c) for c in claimed[1:]))
     else:
@@ -233,11 +238,25 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     return "; ".join(parts)
 
 
+def named_second(first, other) -> str:
+    """Why ``other``, which the data do not tell apart from ``first``, is named after it (the
+    order of :func:`simgap.diagnosis.run.prefer_simpler`)."""
+    if first.addition is None or other.addition is None:
+        return "it shrank the gap less, though not significantly"
+    if len(other.addition.parameters) > len(first.addition.parameters):
+        return "more parameters"
+    generic = (lambda c: bool(c.addition.around) and not c.addition.switch)
+    if generic(other) and not generic(first):
+        return "generic where the model has its own switch"
+    return "it shrank the gap less, though not significantly"
+
+
 def caveats(candidates) -> list[str]:
     """The verdict's clauses on effects that shrank the gap but were not confirmed: fitting one
     target at another's cost, beyond re-tuning on validation but not on the training data they
     were fitted to, beyond re-tuning but not beyond chance, or no further than re-tuning alone
-    (with the tuner that makes the same change). A diagnosis started again from the re-tuned solution keeps them."""
+    (with the tuner that makes the same change). A diagnosis started again from the re-tuned
+    solution keeps them."""
     alike = [c for c in candidates if c.applicable and c.like_retuning][:2]
     undecided = [c for c in candidates if c.applicable and c.undecided][:2]
     parts = []
