@@ -1408,6 +1408,58 @@ def thirtieth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_first_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-first blind set (issue 14), written and committed before any of it ran, the first
+    whose verdict names the effects the data do not tell apart from the first claim also when it
+    is first by shrink (claims as in the thirtieth). Seeds 3301-3332; strengths, seasons and noise
+    levels chosen afresh; every effect of each model and every generic one, with time constants
+    on the air-source flow thermometer (350 s, winter) and the water-to-water power meter (600 s,
+    autumn), a clock 40 minutes late on the air-source logger and 10 minutes early on the
+    water-to-water one, an air-source flow thermometer reading 0.6 K high, a water-to-water power
+    meter reading 8 % low, an air flow meter logged 6 % high and a water-to-water pyranometer 20 %
+    low; six null cases (tuners at a bound, more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("autumn", "winter", "autumn", "winter")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 600.0}, seed=3301, seasons=mixed),
+        B(air, "heat_loss", strength={"UALossCon": 50.0, "UALossPipe": 15.0}, seed=3302, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 400.0}, seed=3303, seasons=mixed, noise_scale=0.8),
+        B(air, "post_run", strength={"tPostRun": 900.0}, seed=3304, seasons=winter),
+        B(air, "backup_heater", strength={"TOdaBackup": 276.65, "PBackup": 2500.0}, seed=3305, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3600.0, "tDefrost": 360.0, "fDefrostQ": 0.6}, seed=3306, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 312.65, "dTCycHys": 4.5, "tCycMinRun": 500.0, "tCycMinOff": 1200.0}, seed=3307, seasons=mixed),
+        B(air, "clock_shift", shift_s=2400.0, seed=3308, seasons=mixed),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.6, 1.0)}, seed=3309, seasons=winter),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 350.0}, seed=3310, seasons=winter),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.06}, seed=3311, seasons=mixed),
+        B(w2w, "heat_loss", strength={"UALossGen": 600.0}, seed=3312, seasons=mixed),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1200.0}, seed=3313, seasons=winter),
+        B(w2w, "post_run", strength={"tPostRun": 700.0}, seed=3314, seasons=mixed),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 750.0}, seed=3315, seasons=mixed),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 4000.0}, seed=3316, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2700.0, "tCycMinOff": 1500.0, "plrCycMin": 0.6}, seed=3317, seasons=mixed),
+        B(w2w, "clock_shift", shift_s=-600.0, seed=3318, seasons=winter),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.92)}, seed=3319, seasons=mixed),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 600.0}, seed=3320, seasons=autumn),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 0.8}, seed=3321, seasons=mixed),
+        # null cases
+        B(air, None, seed=3322, seasons=mixed, noise_scale=1.5),
+        B(air, None, seed=3323, seasons=winter, missing_fraction=0.05),
+        B(air, None, seed=3324, truth={"lambdaIns": synth.MODELS[air].tuners["lambdaIns"].upper}),
+        B(w2w, None, seed=3325, seasons=mixed, noise_scale=1.3),
+        B(w2w, None, seed=3326, seasons=autumn, missing_fraction=0.05),
+        B(w2w, None, seed=3327, truth={"flowRatioSrcDem": synth.MODELS[w2w].tuners["flowRatioSrcDem"].lower}),
+        # two effects at once
+        B(air, "heat_loss", also=("start_up_lag",), seed=3330, seasons=mixed),
+        B(w2w, "backup_heater", also=("post_run",), seed=3331, seasons=winter),
+        B(air, "sensor_lag", also=("post_run",), seed=3332, seasons=autumn),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1437,6 +1489,7 @@ BLIND_SETS = {
     "twenty_fourth": twenty_fourth_cases, "twenty_fifth": twenty_fifth_cases,
     "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
     "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
+    "thirty_first": thirty_first_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
