@@ -163,6 +163,12 @@ class Candidate:
         return confirming >= self.min_shrink
 
     @property
+    def generic(self) -> bool:
+        """Applied around the simulator only (on its inputs or outputs), with no switch in the
+        model: where the data do not tell two effects apart, the model's own is named first."""
+        return self.addition is not None and bool(self.addition.around) and not self.addition.switch
+
+    @property
     def fitted_no_better(self) -> bool:
         """Recalibrated, beyond re-tuning on validation by the confirmation threshold, but on the
         training data, where it was fitted, better than re-tuning alone by less than

@@ -185,13 +185,13 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     unconfirmed = [] if claimed else sorted((c for c in rejected if c.share >= POINTED_SHARE), key=lambda c: -c.share)[:2]
     parts = []
     if claimed:
-        def shrink(c):
+        def beyond(c, end=""):
             value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
-            return f" (gap shrink {value:.0%} beyond re-tuning)" if value is not None and value == value else ""
+            return f"gap shrink {value:.0%} beyond re-tuning{end}" if value is not None and value == value else ""
 
-        def beyond(c):
-            value = c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink
-            return f"gap shrink {value:.0%} beyond re-tuning; " if value is not None and value == value else ""
+        def shrink(c):
+            said = beyond(c)
+            return f" ({said})" if said else ""
 
         parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
         if claimed[0].at_bounds:
@@ -205,7 +205,7 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
         equivalent = [by_name[n] for n in claimed[0].equivalent if n not in named and n in by_name]
         if equivalent:
             parts.append("as good on these data, not told apart from it: "
-                         + ", ".join(f"{c.name} ({beyond(c)}named second: {named_second(claimed[0], c)})" for c in equivalent))
+                         + ", ".join(f"{c.name} ({beyond(c, '; ')}named second: {named_second(claimed[0], c)})" for c in equivalent))
         if len(claimed) > 1:
             parts.append("also confirmed: " + ", ".join(c.name + shrink(c) for c in claimed[1:]))
     else:
@@ -245,8 +245,7 @@ def named_second(first, other) -> str:
         return "it shrank the gap less, though not significantly"
     if len(other.addition.parameters) > len(first.addition.parameters):
         return "more parameters"
-    generic = (lambda c: bool(c.addition.around) and not c.addition.switch)
-    if generic(other) and not generic(first):
+    if other.generic and not first.generic:
         return "generic where the model has its own switch"
     return "it shrank the gap less, though not significantly"
 

@@ -251,8 +251,7 @@ def prefer_simpler(candidates: list[Candidate], results: list[dict]) -> None:
     pool = [best] + rivals
 
     def simplicity(c):
-        generic = bool(c.addition.around) and not c.addition.switch
-        return (len(c.addition.parameters), generic, pool.index(c))
+        return (len(c.addition.parameters), c.generic, pool.index(c))
 
     chosen = min(pool, key=simplicity)
     # named with the claim whichever comes first: a supply thermometer's 700-s time constant in
