@@ -108,7 +108,30 @@ def test_the_effect_that_removes_most_as_simulated_gets_a_slot_beyond_the_budget
     # not significant: no slot
     ranked[4].significant = False
     assert [c.name for c in recalibration_choice(ranked, 3)] == ["gain", "lag", "clock"]
+    # ... unless the first pass's claim stood at the bounds of its ranges (an offset and a meter
+    # gain at 2 K and 1.3 standing in for an air backup heater that removed 57 % as simulated
+    # and was 6 % of the residual once the power scale's change was cleared)
+    rest = [c for c in ranked if c not in recalibration_choice(ranked, 3)]
+    assert [c.name for c in recalibration_choice(rest, 3, everyone=ranked)] == ["loss"]
+    chosen = recalibration_choice(rest, 3, everyone=ranked, stand_in=True)
+    assert [c.name for c in chosen] == ["loss", "heater"] and ranked[4].stand_in_slot
+    assert ranked[4].pointed_at  # it may be claimed if its recalibration confirms it
+    ranked[4].stand_in_slot = False
+    ranked[4].as_simulated = AS_SIMULATED_SLOT - 0.01  # removes too little as simulated: no slot
+    assert [c.name for c in recalibration_choice(rest, 3, everyone=ranked, stand_in=True)] == ["loss"]
     assert recalibration_choice(ranked, 0) == []
+    # confirmed, it leads; the stand-in it displaced, if still confirmed on top of it, is named at its bounds
+    from simgap.diagnosis.report import verdict
+
+    heater, gain = ranked[4], ranked[0]
+    heater.as_simulated, heater.stand_in_slot = 0.57, True
+    heater.confirm = gain.confirm = True
+    heater.min_shrink = gain.min_shrink = 0.2
+    heater.gap_shrink, heater.shrink_vs_control, heater.p_vs_control = 0.91, 0.91, 0.0
+    gain.gap_shrink, gain.shrink_vs_control, gain.p_vs_control = 0.30, 0.30, 0.0
+    gain.beyond_first, gain.first, gain.at_bounds = 0.73, "heater", {"gain": 1.3}
+    assert verdict([heater, gain]) == ("most likely unmodelled effect: heater (gap shrink 91% beyond re-tuning); also confirmed: "
+                                       "gain (gap shrink 30% beyond re-tuning) but at the bounds of its ranges")
 
 
 def test_the_as_simulated_share_is_what_the_change_removes_as_it_is():

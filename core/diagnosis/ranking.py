@@ -132,6 +132,11 @@ class Candidate:
     count_evidence: bool = False
     """The base simulation starts far more or fewer times than the record, and a setting of the
     effect brings the count at least halfway (in log) towards it: earns a recalibration."""
+    stand_in_slot: bool = False
+    """Recalibrated, though not significant, because it removes most of a target's residual as
+    simulated and the first pass's claim stood at the bounds of its ranges (standing in for
+    another effect, :func:`simgap.diagnosis.run.recalibration_choice`): the screening pointed
+    here by what the effect does as simulated."""
     best_setting: int | None = None
     """Index in ``responses`` of the setting that explained most on the effect's best target."""
     """(effect parameter values, simulated change per target) at every screened setting."""
@@ -139,8 +144,9 @@ class Candidate:
     @property
     def pointed_at(self) -> bool:
         """The screening pointed here: significant on the samples, on the envelopes or by the
-        start count (the latter two earn a recalibration, not a claim on their own)."""
-        return self.significant or self.envelope_significant or self.count_evidence
+        start count, or by its change as simulated where the first claim stood in for another
+        effect (all but the first earn a recalibration, not a claim on their own)."""
+        return self.significant or self.envelope_significant or self.count_evidence or self.stand_in_slot
 
     @property
     def claimed(self) -> bool:
@@ -246,6 +252,7 @@ class Candidate:
             "gap_shrink": self.gap_shrink,
             "shrink_vs_control": self.shrink_vs_control,
             "training_shrink_vs_control": self.training_shrink_vs_control,
+            "stand_in_slot": self.stand_in_slot,
             "p_vs_control": self.p_vs_control,
             "beyond_first": self.beyond_first,
             "first": self.first,

@@ -58,7 +58,8 @@ def best_target(cand: Candidate) -> str | None:
     return max(cand.per_target, key=lambda t: cand.per_target[t]["share"] - cand.per_target[t].get("chance", 0.0))
 
 
-def recalibration_choice(candidates: list[Candidate], budget: int, everyone: list[Candidate] | None = None) -> list[Candidate]:
+def recalibration_choice(candidates: list[Candidate], budget: int, everyone: list[Candidate] | None = None,
+                         stand_in: bool = False) -> list[Candidate]:
     """The significant addable effects to recalibrate: the model's own effects (a switch in the
     model) and the generic ones around the simulator take turns, each family in its order of
     share, the better first. Generic effects fit many residuals a little (a clock shift, a
@@ -74,7 +75,11 @@ def recalibration_choice(candidates: list[Candidate], budget: int, everyone: lis
     longer one and takes its turn (in the second pass): untested is not rejected, and the model's
     own lag can fail where the generic one would not (a supply thermometer's 900-s time constant:
     the model's lag found 968 s but its tuners did not carry over to validation, and the shift
-    that then took the claim was the wrong physics)."""
+    that then took the claim was the wrong physics).
+
+    ``stand_in``: the first pass's claim stood at the bounds of its ranges; the effect that removes
+    most of a target's residual as simulated gets a slot even if not significant
+    (``Candidate.stand_in_slot``)."""
     everyone = candidates if everyone is None else everyone
     own_twins = {c.same_as: c for c in everyone if c.same_as and c.significant and c.addition is not None
                  and (c.gap_shrink is None or c.claimed)}
@@ -112,6 +117,20 @@ def recalibration_choice(candidates: list[Candidate], budget: int, everyone: lis
     if (budget > 0 and leader is not None and leader.as_simulated >= AS_SIMULATED_SLOT
             and leader in candidates and leader not in chosen):
         chosen.append(leader)
+    if stand_in and budget > 0:
+        # the first pass's claim stood at the bounds of its ranges, the sign of an effect standing
+        # in for another: the one that removes most of a target's residual as simulated gets a
+        # slot, significant or not. An air backup heater (2500 W below 3.5 degC) came out at 6 %
+        # of the residual once the power scale's change was cleared, not significant, while as
+        # simulated it removed 57 %; a flow-thermometer offset and a power-meter gain, both at
+        # their bounds (2 K, 1.3), took the claim. Of 14 claims at their bounds in sets 17-31,
+        # the 3 wrong ones were all such heaters
+        spare = [c for c in candidates if c.addition is not None and c.applicable and not c.twin_of
+                 and c not in chosen and c.gap_shrink is None]
+        best = max(spare, key=lambda c: c.as_simulated, default=None)
+        if best is not None and best.as_simulated >= AS_SIMULATED_SLOT:
+            best.stand_in_slot = not best.significant
+            chosen.append(best)
     return chosen
 
 
@@ -457,7 +476,8 @@ def diagnose(
         # their bounds then shrank the gap 20 %): the next significant ones get their turn, once.
         # Also after a modest claim (second_pass_below): an input gain that makes up for part of
         # a sensor lag confirmed 66 % and kept the lag from any recalibration
-        more = recalibration_choice([c for c in candidates if c not in chosen], budget, everyone=candidates)
+        stand_in = any(c.claimed and c.at_bounds for c in chosen)
+        more = recalibration_choice([c for c in candidates if c not in chosen], budget, everyone=candidates, stand_in=stand_in)
         if more:
             say("none of those confirmed (or only at the bounds of its ranges, or by less than the second pass asks): recalibrating the next " + ", ".join(c.name for c in more))
             # a second look at the same data pays for itself: half the significance (Bonferroni
