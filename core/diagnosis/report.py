@@ -228,9 +228,9 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     parts += caveats(candidates)
     if unconfirmed:
         def tried(c):
-            beyond = f", {c.shrink_vs_control:.0%} beyond re-tuning" if c.shrink_vs_control is not None else ""
+            past = f", {c.shrink_vs_control:.0%} beyond re-tuning" if c.shrink_vs_control is not None else ""
             return (f"{c.name} ({c.share:.0%} of the residual, p = {c.p_value:.2g}; recalibrated with it, "
-                    f"the validation gap shrinks {c.gap_shrink:.0%}{beyond})")
+                    f"the validation gap shrinks {c.gap_shrink:.0%}{past})")
 
         parts.append("the screening pointed at " + "; ".join(tried(c) for c in unconfirmed) + ", not confirmed"
                      + (": a switching effect's times can fit in a range too narrow for the recalibration's search "
