@@ -1460,6 +1460,58 @@ def thirty_first_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_second_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-second blind set (issue 14), written and committed before any of it ran, on the
+    rules of the thirty-first (a fresh checkout; the stored runs of earlier sets are gone). Seeds
+    3401-3432; strengths, seasons and noise levels chosen afresh; every effect of each model and
+    every generic one, with time constants on the air-source flow thermometer (500 s, mixed
+    seasons) and the water-to-water supply thermometer (500 s, winter), a clock 20 minutes late
+    on the air-source logger and 25 minutes late on the water-to-water one, an air-source power
+    meter reading 9 % high, a water-to-water supply thermometer reading 0.5 K high, an air flow
+    meter logged 8 % low and a water-to-water pyranometer 25 % high; six null cases (tuners at a
+    bound never tried before, less and more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("winter", "autumn", "winter", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=3401, seasons=winter),
+        B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 35.0}, seed=3402, seasons=mixed),
+        B(air, "sensor_lag", strength={"tauSensor": 300.0}, seed=3403, seasons=autumn),
+        B(air, "post_run", strength={"tPostRun": 600.0}, seed=3404, seasons=mixed),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.65, "PBackup": 3000.0}, seed=3405, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0, "tDefrost": 420.0, "fDefrostQ": 0.55}, seed=3406, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 313.15, "dTCycHys": 3.0, "tCycMinRun": 720.0, "tCycMinOff": 1000.0}, seed=3407, seasons=winter),
+        B(air, "clock_shift", shift_s=1200.0, seed=3408, seasons=winter),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.09)}, seed=3409, seasons=autumn),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 500.0}, seed=3410, seasons=mixed),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.92}, seed=3411, seasons=winter),
+        B(w2w, "heat_loss", strength={"UALossGen": 450.0}, seed=3412, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 900.0}, seed=3413, seasons=mixed),
+        B(w2w, "post_run", strength={"tPostRun": 900.0}, seed=3414, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 1200.0}, seed=3415, seasons=winter),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 4500.0}, seed=3416, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2000.0, "tCycMinOff": 2500.0, "plrCycMin": 0.5}, seed=3417, seasons=autumn),
+        B(w2w, "clock_shift", shift_s=1500.0, seed=3418, seasons=winter),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.5, 1.0)}, seed=3419, seasons=autumn),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 500.0}, seed=3420, seasons=winter),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 1.25}, seed=3421, seasons=winter),
+        # null cases
+        B(air, None, seed=3422, seasons=autumn, noise_scale=1.2),
+        B(air, None, seed=3423, seasons=mixed, missing_fraction=0.08),
+        B(air, None, seed=3424, truth={"fPWarm": synth.MODELS[air].tuners["fPWarm"].lower}),
+        B(w2w, None, seed=3425, seasons=winter, noise_scale=0.7),
+        B(w2w, None, seed=3426, seasons=mixed, missing_fraction=0.04),
+        B(w2w, None, seed=3427, truth={"dTCutInOut": synth.MODELS[w2w].tuners["dTCutInOut"].upper}),
+        # two effects at once
+        B(air, "post_run", also=("defrost",), seed=3430, seasons=winter),
+        B(w2w, "sensor_lag", also=("heat_loss",), seed=3431, seasons=mixed),
+        B(air, "backup_heater", also=("post_run",), seed=3432, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1489,7 +1541,7 @@ BLIND_SETS = {
     "twenty_fourth": twenty_fourth_cases, "twenty_fifth": twenty_fifth_cases,
     "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
     "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
-    "thirty_first": thirty_first_cases,
+    "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
