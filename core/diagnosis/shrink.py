@@ -184,13 +184,8 @@ def recalibrate(
     start: dict[str, float] | None = None,
     ablate: bool = True,
     ablate_only: tuple = (),
-    reweigh=None,
 ) -> dict:
     """Run the derived calibration; return before/after validation errors and the shrink.
-
-    ``reweigh`` (effect parameters as found -> weights, or None): weights read from where the
-    search put the effect's parameters; the front member is picked and scored again with them,
-    and the control judged by them (``out["weights"]``).
 
     ``ablate_only`` (effect parameters of ``addition``): the solution is compared, besides the
     control, with itself with only these parameters at their weak end, the rest of the addition
@@ -223,12 +218,6 @@ def recalibrate(
     out["workflow"] = str(path)
     pick = _pick(ctx, run, weights)
     out.update(_scored(ctx, prepared, addition, pick, before, weights))
-    found = reweigh(out["effect_parameters"]) if reweigh is not None else None
-    if found and found != weights:
-        out["weights_as_screened"], out["weights"] = dict(weights), dict(found)
-        weights = found
-        pick = _pick(ctx, run, weights)
-        out.update(_scored(ctx, prepared, addition, pick, before, weights))
     if control and control.get("above_noise"):
         # the control judged by the same rule: its front member picked with this effect's
         # weights (a control picked for all targets alike loses to any effect on the target the
