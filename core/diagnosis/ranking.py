@@ -93,6 +93,9 @@ class Candidate:
     first: str | None = None
     """The better-confirmed effect it was tested on top of."""
     min_shrink: float = 0.0
+    judged_on: dict[str, float] = field(default_factory=dict)
+    """A reading error's weights per target once recalibrated, by how far the recalibration moved
+    each reading (:func:`simgap.diagnosis.run.reading_error_weights`); empty otherwise."""
     min_share: float = 0.05
     """The screening's share threshold (``diagnose: min_share``)."""
     equivalent: list[str] = field(default_factory=list)
@@ -191,12 +194,19 @@ class Candidate:
         it, the target): the most reproduced of the targets where the effect explains at least
         ``min_share`` of the residual (an offset on a thermometer and a gain on a meter are one
         effect: the gain may be a tuner's twin while the offset is not), else on the target where
-        it explains most; (0, None, None) where unknown."""
+        it explains most; a recalibrated reading error's, on the reading it moved most
+        (``judged_on``); (0, None, None) where unknown."""
         known = {t: v for t, v in self.per_target.items() if "reproduced_by_tuners" in v}
         if not known:
             return 0.0, None, None
         explains = {t: v["share"] - v.get("chance", 0.0) for t, v in known.items()}
         strong = [t for t in known if explains[t] >= max(self.min_share, 1e-12)]
+        if self.judged_on and any(k in self.judged_on for k in known):
+            # a recalibrated reading error: the reading it moved, whatever the screening's shares
+            # (a meter's gain found at 1.11 and the thermometer's offset at 0.04 K named the
+            # thermometer's twin tuner, where the screening had put 96 % of its share)
+            most = max(self.judged_on.get(k, 0.0) for k in known)
+            strong = [k for k in known if self.judged_on.get(k, 0.0) >= most]
         t = (max(strong, key=lambda k: known[k]["reproduced_by_tuners"]) if strong
              else max(known, key=explains.get))
         return float(known[t]["reproduced_by_tuners"]), known[t].get("most_like"), t
@@ -263,6 +273,7 @@ class Candidate:
             "switch_counts": self.switch_counts,
             "count_evidence": self.count_evidence,
             "like_retuning": self.like_retuning,
+            "judged_on": self.judged_on,
             "equivalent": self.equivalent,
         }
 

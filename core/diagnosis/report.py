@@ -230,7 +230,7 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
         def tried(c):
             past = f", {c.shrink_vs_control:.0%} beyond re-tuning" if c.shrink_vs_control is not None else ""
             return (f"{c.name} ({c.share:.0%} of the residual, p = {c.p_value:.2g}; recalibrated with it, "
-                    f"the validation gap shrinks {c.gap_shrink:.0%}{past})")
+                    f"the validation gap shrinks {c.gap_shrink:.0%}{past}{twin(c)})")
 
         parts.append("the screening pointed at " + "; ".join(tried(c) for c in unconfirmed) + ", not confirmed"
                      + (": a switching effect's times can fit in a range too narrow for the recalibration's search "
@@ -280,12 +280,16 @@ def caveats(candidates) -> list[str]:
             + ": a longer validation record would decide")
     if alike:
         def like(c):
-            share, tuner, target = c.reproduced()
-            twin = f"; re-tuning {tuner} makes {share:.0%} of its change of {target}" if tuner and share >= LIKE_RETUNING else ""
-            return f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}{twin})"
+            return f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}{twin(c)})"
 
         parts.append("re-tuning alone does nearly as well as " + "; ".join(like(c) for c in alike))
     return parts
+
+
+def twin(c) -> str:
+    """The clause naming the tuner whose re-tuning makes (nearly) the same change as ``c``, or ""."""
+    share, tuner, target = c.reproduced()
+    return f"; re-tuning {tuner} makes {share:.0%} of its change of {target}" if tuner and share >= LIKE_RETUNING else ""
 
 
 def control_gap_shrink(shrink: list[dict]) -> float | None:
