@@ -1512,6 +1512,58 @@ def thirty_second_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_third_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-third blind set (issue 14), written and committed before any of it ran, on the
+    rules of the thirty-second, the first run with a recalibrated reading error judged where it
+    moved a reading. Seeds 3501-3532; strengths, seasons and noise levels chosen afresh; every
+    effect of each model and every generic one, with an air-source flow thermometer reading 0.5 K
+    low, a water-to-water power meter 7 % high, a time constant of 400 s on the air-source power
+    meter and of 800 s on the water-to-water supply thermometer, a clock 15 minutes late on the
+    air-source logger and 20 minutes early on the water-to-water one, an air flow meter logged
+    10 % high and a water-to-water pyranometer 15 % low; six null cases (tuners at bounds never
+    tried before, less and more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("winter", "autumn", "winter", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 300.0}, seed=3501, seasons=mixed),
+        B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 25.0}, seed=3502, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 200.0}, seed=3503, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 450.0}, seed=3504, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 277.15, "PBackup": 2000.0}, seed=3505, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4500.0, "tDefrost": 600.0, "fDefrostQ": 0.4}, seed=3506, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 320.15, "dTCycHys": 2.0, "tCycMinRun": 1200.0, "tCycMinOff": 800.0}, seed=3507, seasons=mixed),
+        B(air, "clock_shift", shift_s=900.0, seed=3508, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.5, 1.0)}, seed=3509, seasons=mixed),
+        B(air, "sensor_time_constant", lag={"PEl_W": 400.0}, seed=3510, seasons=winter),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.1}, seed=3511, seasons=autumn),
+        B(w2w, "heat_loss", strength={"UALossGen": 300.0}, seed=3512, seasons=winter),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1800.0}, seed=3513, seasons=autumn),
+        B(w2w, "post_run", strength={"tPostRun": 1500.0}, seed=3514, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 500.0}, seed=3515, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 3000.0}, seed=3516, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 3000.0, "plrCycMin": 0.3}, seed=3517, seasons=winter),
+        B(w2w, "clock_shift", shift_s=-1200.0, seed=3518, seasons=mixed),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.07)}, seed=3519, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 800.0}, seed=3520, seasons=autumn),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 0.85}, seed=3521, seasons=autumn),
+        # null cases
+        B(air, None, seed=3522, seasons=winter, noise_scale=0.8),
+        B(air, None, seed=3523, seasons=autumn, missing_fraction=0.06),
+        B(air, None, seed=3524, truth={"fQWarm": synth.MODELS[air].tuners["fQWarm"].lower}),
+        B(w2w, None, seed=3525, seasons=autumn, noise_scale=1.1),
+        B(w2w, None, seed=3526, seasons=winter, missing_fraction=0.07),
+        B(w2w, None, seed=3527, truth={"nInf_1_h": synth.MODELS[w2w].tuners["nInf_1_h"].upper}),
+        # two effects at once
+        B(air, "defrost", also=("sensor_lag",), seed=3530, seasons=winter),
+        B(w2w, "heat_loss", also=("post_run",), seed=3531, seasons=autumn),
+        B(air, "cycling", also=("heat_loss",), seed=3532, seasons=mixed),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1541,7 +1593,7 @@ BLIND_SETS = {
     "twenty_fourth": twenty_fourth_cases, "twenty_fifth": twenty_fifth_cases,
     "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
     "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
-    "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases,
+    "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases, "thirty_third": thirty_third_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
