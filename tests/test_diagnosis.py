@@ -408,6 +408,29 @@ def test_a_recalibrated_reading_error_is_weighed_by_how_far_it_moved_each_readin
     assert reading_error_weights(ctx, one, alike, {"offset_TSup_K": -0.4}) == alike
 
 
+def test_an_unconfirmed_reading_error_is_named_with_the_twin_tuner_of_the_reading_it_moved():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+
+    # the screening put its share on the thermometer, the recalibration moved the meter's gain
+    per_target = {"THCFlow_K": {"share": 0.96, "reproduced_by_tuners": 0.962, "most_like": "scaleHPQCon_nominal"},
+                  "PEl_W": {"share": 0.04, "reproduced_by_tuners": 0.996, "most_like": "scaleHPPEl_nominal"}}
+
+    def gain(judged_on):
+        return Candidate("sensor_offset_gain", "", "", True, share=0.96, p_value=0.0, significant=True, per_target=per_target,
+                         gap_shrink=0.15, shrink_vs_control=0.12, p_vs_control=1e-40, training_shrink_vs_control=0.06,
+                         confirm=True, min_shrink=0.2, judged_on=judged_on)
+
+    moved = gain({"THCFlow_K": 0.106, "PEl_W": 0.957})
+    assert not moved.claimed and moved.not_confirmed and not moved.like_retuning
+    assert moved.reproduced() == (0.996, "scaleHPPEl_nominal", "PEl_W")
+    text = verdict([moved])
+    assert "the screening pointed at sensor_offset_gain (" in text, text
+    assert "re-tuning scaleHPPEl_nominal makes 100% of its change of PEl_W), not confirmed" in text, text
+    # not recalibrated by movement: the strongest screened target's twin, as before
+    assert gain({}).reproduced() == (0.962, "scaleHPQCon_nominal", "THCFlow_K")
+
+
 def test_a_claim_whose_effect_parameters_all_sit_at_a_bound_is_flagged():
     from simgap.diagnosis.ranking import Candidate
     from simgap.diagnosis.report import verdict
