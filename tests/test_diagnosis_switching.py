@@ -117,7 +117,12 @@ def test_the_effect_that_removes_most_as_simulated_gets_a_slot_beyond_the_budget
     assert [c.name for c in chosen] == ["loss", "heater"] and ranked[4].stand_in_slot
     assert ranked[4].pointed_at  # it may be claimed if its recalibration confirms it
     ranked[4].stand_in_slot = False
-    ranked[4].as_simulated = AS_SIMULATED_SLOT - 0.01  # removes too little as simulated: no slot
+    # the claim at its bounds is the evidence: the screening's share threshold as simulated will do
+    # (a 2000-W heater that removed 31 % as simulated, blind case 3505)
+    ranked[4].as_simulated = AS_SIMULATED_SLOT - 0.19
+    assert [c.name for c in recalibration_choice(rest, 3, everyone=ranked, stand_in=True)] == ["loss", "heater"]
+    ranked[4].stand_in_slot = False
+    ranked[4].as_simulated = ranked[4].min_share - 0.01  # removes too little as simulated: no slot
     assert [c.name for c in recalibration_choice(rest, 3, everyone=ranked, stand_in=True)] == ["loss"]
     assert recalibration_choice(ranked, 0) == []
     # confirmed, it leads; the stand-in it displaced, if still confirmed on top of it, is named at its bounds

@@ -124,11 +124,15 @@ def recalibration_choice(candidates: list[Candidate], budget: int, everyone: lis
         # of the residual once the power scale's change was cleared, not significant, while as
         # simulated it removed 57 %; a flow-thermometer offset and a power-meter gain, both at
         # their bounds (2 K, 1.3), took the claim. Of 14 claims at their bounds in sets 17-31,
-        # the 3 wrong ones were all such heaters
+        # the 3 wrong ones were all such heaters. The claim at its bounds is the evidence here, so
+        # the alternative needs only the screening's share threshold as simulated, not
+        # AS_SIMULATED_SLOT: a 2000-W heater below 4 degC removed 31 % as simulated, the next
+        # spare effect 3 %, and without a slot the offset-gain at its bounds stayed the claim
+        # (blind case 3505)
         spare = [c for c in candidates if c.addition is not None and c.applicable and not c.twin_of
                  and c not in chosen and c.gap_shrink is None]
         best = max(spare, key=lambda c: c.as_simulated, default=None)
-        if best is not None and best.as_simulated >= AS_SIMULATED_SLOT:
+        if best is not None and best.as_simulated >= max(best.min_share, 1e-12):
             best.stand_in_slot = not best.significant
             chosen.append(best)
     return chosen
