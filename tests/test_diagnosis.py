@@ -408,6 +408,23 @@ def test_a_recalibrated_reading_error_is_weighed_by_how_far_it_moved_each_readin
     assert reading_error_weights(ctx, one, alike, {"offset_TSup_K": -0.4}) == alike
 
 
+def test_an_effect_the_joint_search_left_at_its_neutral_end_adds_nothing_on_top():
+    from simgap.diagnosis.run import barely_moved
+    from simgap.interfaces import EffectAddition, EffectParameter as P
+
+    # blind case 3505: beside a backup heater, a flow-meter gain of 0.989 and an offset of
+    # 0.001 K with a meter gain of 0.992 came out 41 % beyond the heater alone
+    flow = EffectAddition(switch={}, parameters=(P("inputGain_m_flow", 1.0, 0.6, 1.4, neutral=1.0),))
+    assert barely_moved(flow, {"inputGain_m_flow": 0.989})
+    assert not barely_moved(flow, {"inputGain_m_flow": 0.97})  # 3.75 % of its range: an effect
+    reading = EffectAddition(switch={}, parameters=(P("offset_T", 0.0, -2.0, 2.0, "K", neutral=0.0), P("gain_P", 1.0, 0.7, 1.3, neutral=1.0)))
+    assert barely_moved(reading, {"offset_T": 0.001, "gain_P": 0.992})
+    assert not barely_moved(reading, {"offset_T": 0.3, "gain_P": 0.992})  # one reading moved
+    loss = EffectAddition(switch={}, parameters=(P("UALoss", 10.0, 0.0, 60.0, "W/K"),))  # no neutral: the lower bound
+    assert barely_moved(loss, {"UALoss": 0.5}) and not barely_moved(loss, {"UALoss": 25.0})
+    assert not barely_moved(loss, {}) and not barely_moved(EffectAddition(switch={"use": 1.0}, parameters=()), {})
+
+
 def test_an_unconfirmed_reading_error_is_named_with_the_twin_tuner_of_the_reading_it_moved():
     from simgap.diagnosis.ranking import Candidate
     from simgap.diagnosis.report import verdict
