@@ -211,8 +211,9 @@ def recalibration_weights(cand: Candidate) -> dict[str, float]:
 
 
 MOVED_AT_LEAST = 0.02
-"""A reading error's parameter that the recalibration moved from its neutral value by less than
-this share of its range counts as moved this far (see :func:`reading_error_weights`)."""
+"""A share of a parameter's range from its neutral value: a reading error's parameter the
+recalibration moved less than this counts as moved this far (:func:`reading_error_weights`); an
+effect added on top of another whose parameters all moved less adds nothing (:func:`barely_moved`)."""
 
 
 def moved_share(parameter, value: float) -> float:
