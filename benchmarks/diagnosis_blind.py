@@ -1564,6 +1564,59 @@ def thirty_third_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_fourth_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-fourth blind set (issue 14), written and committed before any of it ran: the first
+    blind run of session 38's rules (the stand-in slot of a first claim at bounds taken from its
+    best front member's share as simulated; an effect the joint search leaves within 2 % of its
+    neutral end adds nothing on top). Seeds 3601-3632; strengths, seasons and noise levels chosen
+    afresh; every effect of each model and every generic one, with an air-source flow thermometer
+    reading 0.35 K high, a water-to-water power meter 10 % low, a time constant of 700 s on the
+    air-source power meter and of 1000 s on the water-to-water supply thermometer, a clock 10
+    minutes early on the air-source logger and 25 minutes late on the water-to-water one, an air
+    flow meter logged 13 % low and a water-to-water pyranometer 20 % high; six null cases (tuners
+    at bounds never tried before, less and more noise, lost rows); three pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("autumn", "winter", "autumn", "winter")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 420.0}, seed=3601, seasons=winter),
+        B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 12.0}, seed=3602, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 380.0}, seed=3603, seasons=mixed),
+        B(air, "post_run", strength={"tPostRun": 650.0}, seed=3604, seasons=winter),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.15, "PBackup": 5000.0}, seed=3605, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0, "tDefrost": 450.0, "fDefrostQ": 0.5}, seed=3606, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 313.15, "dTCycHys": 4.0, "tCycMinRun": 900.0, "tCycMinOff": 1500.0}, seed=3607, seasons=autumn),
+        B(air, "clock_shift", shift_s=-600.0, seed=3608, seasons=winter),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.35, 1.0)}, seed=3609, seasons=winter),
+        B(air, "sensor_time_constant", lag={"PEl_W": 700.0}, seed=3610, seasons=mixed),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.87}, seed=3611, seasons=winter),
+        B(w2w, "heat_loss", strength={"UALossGen": 450.0}, seed=3612, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2400.0}, seed=3613, seasons=winter),
+        B(w2w, "post_run", strength={"tPostRun": 2400.0}, seed=3614, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 700.0}, seed=3615, seasons=winter),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 277.15, "PBackup": 6000.0}, seed=3616, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2400.0, "tCycMinOff": 2000.0, "plrCycMin": 0.55}, seed=3617, seasons=autumn),
+        B(w2w, "clock_shift", shift_s=1500.0, seed=3618, seasons=winter),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.9)}, seed=3619, seasons=autumn),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 1000.0}, seed=3620, seasons=winter),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 1.2}, seed=3621, seasons=mixed),
+        # null cases
+        B(air, None, seed=3622, seasons=autumn, noise_scale=1.2),
+        B(air, None, seed=3623, seasons=winter, missing_fraction=0.04),
+        B(air, None, seed=3624, truth={"fQMed": synth.MODELS[air].tuners["fQMed"].upper}),
+        B(w2w, None, seed=3625, seasons=winter, noise_scale=0.7),
+        B(w2w, None, seed=3626, seasons=autumn, missing_fraction=0.05),
+        B(w2w, None, seed=3627, truth={"dTCutInOut": synth.MODELS[w2w].tuners["dTCutInOut"].lower}),
+        # two effects at once
+        B(air, "post_run", also=("sensor_lag",), seed=3630, seasons=winter),
+        B(w2w, "start_up_lag", also=("heat_loss",), seed=3631, seasons=winter),
+        B(air, "backup_heater", also=("defrost",), seed=3632, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1594,6 +1647,7 @@ BLIND_SETS = {
     "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
     "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
     "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases, "thirty_third": thirty_third_cases,
+    "thirty_fourth": thirty_fourth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
