@@ -178,6 +178,26 @@ def test_of_two_effects_the_data_do_not_tell_apart_the_simpler_is_named_first():
     assert text.startswith("most likely unmodelled effect: clock_shift (gap shrink 31% beyond re-tuning); as good on these "
                            "data, not told apart from it: generic_lag (gap shrink 25% beyond re-tuning; named second: it "
                            "shrank the gap less, though not significantly)")
+    # as simple, first by shrink, but it fits the thermometer at the power's cost where the other
+    # costs nothing: the other is named first, and the verdict says why (blind case 3520: a
+    # supply thermometer's 800-s time constant claimed as a 687-s clock shift)
+    shift_row = {"effect": "clock_shift", "after": {}, **results["two_parameter"],
+                 "shrink_vs_control": {"T": 0.36, "P": -0.08}, "shrink_vs_control_training": {"T": 1.0, "P": -0.39}}
+    lag_row = {"effect": "generic_lag", "after": {}, **results["generic_lag"],
+               "shrink_vs_control": {"T": 0.35, "P": 0.01}, "shrink_vs_control_training": {"T": 1.0, "P": 0.02}}
+    candidates = confirm_order([cand("generic_lag", generic, 0.32), cand("clock_shift", shift, 0.34)])
+    prefer_simpler(candidates, [lag_row, shift_row])
+    candidates = confirm_order(candidates)
+    assert [c.name for c in candidates] == ["generic_lag", "clock_shift"] and candidates[0].equivalent == ["clock_shift"]
+    assert candidates[1].costs == pytest.approx({"P": 0.08})
+    candidates[1].beyond_first, candidates[1].first = -0.10, "generic_lag"
+    assert ("clock_shift (gap shrink 34% beyond re-tuning; named second: it fits the other targets at the cost of P "
+            "(8% of its gap worse than re-tuning alone))") in verdict(candidates)
+    # worse than re-tuning on validation only (by chance, the training data agree with it): no cost
+    shift_row["shrink_vs_control_training"] = {"T": 1.0, "P": 0.03}
+    candidates = confirm_order([cand("generic_lag", generic, 0.32), cand("clock_shift", shift, 0.34)])
+    prefer_simpler(candidates, [lag_row, shift_row])
+    assert [c.name for c in confirm_order(candidates)] == ["clock_shift", "generic_lag"]
     # clearly better on the data: the best stays first, whatever its parameters
     rows[0][RESIDUALS] = {"T": 0.05 * rng.normal(size=2000)}
     candidates = confirm_order([cand("sensor_lag", model_own, 0.60), cand("generic_lag", generic, 0.95)])

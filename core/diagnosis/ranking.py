@@ -101,6 +101,10 @@ class Candidate:
     equivalent: list[str] = field(default_factory=list)
     """Confirmed effects these data do not tell from this one, which was named first because it
     adds fewer parameters or is the model's own (:func:`simgap.diagnosis.run.prefer_simpler`)."""
+    costs: dict[str, float] = field(default_factory=dict)
+    """Among effects the data do not tell apart: targets its recalibration left worse than
+    re-tuning alone on validation and training alike (target -> the share of the gap re-opened,
+    :func:`simgap.diagnosis.run.costs`); empty where it costs none or was not compared."""
     confirm: bool = False
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     would_test: str = "a model that can take it"
@@ -275,6 +279,7 @@ class Candidate:
             "like_retuning": self.like_retuning,
             "judged_on": self.judged_on,
             "equivalent": self.equivalent,
+            "costs": self.costs,
         }
 
 

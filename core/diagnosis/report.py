@@ -249,6 +249,9 @@ def named_second(first, other) -> str:
         return "it shrank the gap less, though not significantly"
     if len(other.addition.parameters) > len(first.addition.parameters):
         return "more parameters"
+    if other.costs and not first.costs:
+        return "it fits the other targets at the cost of " + ", ".join(
+            f"{t} ({share:.0%} of its gap worse than re-tuning alone)" for t, share in other.costs.items())
     if other.generic and not first.generic:
         return "generic where the model has its own switch"
     return "it shrank the gap less, though not significantly"
