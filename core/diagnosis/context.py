@@ -118,6 +118,9 @@ class Context:
     """Role -> where it was taken from (declared, a name, a unit, a description)."""
     operation: str = "unknown"
     """'on/off', 'modulating' (never off) or 'unknown' (no power or compressor series)."""
+    found_before: dict[str, dict[str, float]] = field(default_factory=dict)
+    """Effect -> its parameters where an earlier round's recalibration of it ended (a further
+    round of :func:`simgap.diagnosis.run.further_effects`): a second start for its search."""
     _lags: dict[str, float] | None = field(default=None, repr=False)
 
     @property

@@ -15,7 +15,7 @@ from .ranking import AS_SIMULATED_SLOT, REOPENS_AT_MOST, Candidate, rank_effects
 from .report import caveats, control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
 from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate, weak_end
-from .warmstart import local_fit
+from .warmstart import better_start, local_fit
 from .where import analyse, gap_warning
 
 def installed_effects(names: list[str] | None = None) -> list:
@@ -514,8 +514,12 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
     overrides = ctx.config.model_dump(exclude={"solution"})
     overrides["iterations"] = ctx.config.iterations - 1
     try:
+        # each effect this round recalibrated on its own starts the next round's search a
+        # second time where it ended here (warmstart.better_start)
+        found = {**ctx.found_before, **{r["effect"]: dict(r["effect_parameters"]) for r in shrink
+                                        if r.get("effect_parameters") and "on_top_of" not in r and "_and_" not in r.get("effect", "")}}
         further = diagnose(result["run"], solution=result["solution"], output=folder / "then",
-                           overrides=overrides, progress=(lambda m: say("  " + m)))
+                           overrides=overrides, progress=(lambda m: say("  " + m)), found_before=found)
     except Exception as exc:  # a failed further round leaves this round's findings intact
         chain[0]["further_error"] = f"{type(exc).__name__}: {exc}"
         return chain
@@ -537,11 +541,16 @@ def diagnose(
     output: str | Path | None = None,
     overrides: dict | None = None,
     progress=print,
+    found_before: dict[str, dict[str, float]] | None = None,
 ) -> dict:
-    """Diagnose ``run_dir``; writes ``<run_dir>/diagnosis/`` (or ``output``) and returns a summary."""
+    """Diagnose ``run_dir``; writes ``<run_dir>/diagnosis/`` (or ``output``) and returns a summary.
+
+    ``found_before``: effect -> its parameters where an earlier round's recalibration of it
+    ended (``Context.found_before``)."""
     t0 = time.perf_counter()
     say = progress or (lambda *_: None)
     ctx = build_context(run_dir, solution=solution, workflow=workflow, overrides=overrides)
+    ctx.found_before = dict(found_before or {})
     say(f"diagnosing solution {ctx.solution_id} of {ctx.run.dir.name}; roles: " + ", ".join(f"{k}={v}" for k, v in ctx.roles.items()))
     where = analyse(ctx)
     t1 = time.perf_counter()
@@ -704,6 +713,12 @@ def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Pa
         say(f"recalibrating with {cand.name} added ({_budget(ctx)})")
         weights = recalibration_weights(cand)
         start = local_fit(ctx, nuisance, cand.addition, start_responses(cand))
+        if ctx.found_before.get(cand.name):
+            chosen = better_start(ctx, cand.addition, start, ctx.found_before[cand.name])
+            if chosen is not start:
+                say(f"  starting {cand.name} where the earlier round's recalibration of it ended: "
+                    + ", ".join(f"{k} = {v:.4g}" for k, v in ctx.found_before[cand.name].items()))
+            start = chosen
         reweigh = (lambda found, cand=cand, weights=weights: reading_error_weights(ctx, cand, weights, found)) if cand.reading_error else None
         result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control,
                              start=start, reweigh=reweigh)
