@@ -835,12 +835,14 @@ def test_a_further_round_starts_each_effect_also_where_the_earlier_round_left_it
         return np.array([values["tauStartUp"] - 180.0, values["UALossGen"] - 150.0])
 
     monkeypatch.setattr(warmstart, "training_residuals", misfit)
+    monkeypatch.setattr(warmstart, "local_fit", lambda ctx, nuisance, addition, start=None: {**start, "UALossGen": 150.0})
     start = {"UALossGen": 156.0, "tauStartUp": 24.6}
-    assert warmstart.better_start(None, lag, start, {"tauStartUp": 152.7}) == {"UALossGen": 156.0, "tauStartUp": 152.7}
-    assert warmstart.better_start(None, lag, start, {"tauStartUp": 600.0}) is start  # fits worse: kept
-    assert warmstart.better_start(None, lag, start, {"UALossGen": 150.0}) is start  # not this effect's parameter
+    # the tuners fitted again around the earlier setting (here: the heat loss to its truth)
+    assert warmstart.better_start(None, None, lag, start, {"tauStartUp": 152.7}) == {"UALossGen": 150.0, "tauStartUp": 152.7}
+    assert warmstart.better_start(None, None, lag, start, {"tauStartUp": 600.0}) is start  # fits worse: kept
+    assert warmstart.better_start(None, None, lag, start, {"UALossGen": 150.0}) is start  # not this effect's parameter
     monkeypatch.setattr(warmstart, "training_residuals", lambda ctx, addition, values: None if values["tauStartUp"] > 100 else misfit(ctx, addition, values))
-    assert warmstart.better_start(None, lag, start, {"tauStartUp": 152.7}) is start  # a failed simulation: kept
+    assert warmstart.better_start(None, None, lag, start, {"tauStartUp": 152.7}) is start  # a failed simulation: kept
 
     # the wiring: round 1's own recalibrations are handed on, not the joint ones or the control
     heat = Candidate("heat_loss", "", "", True, addition=simgap.EffectAddition(switch={}, parameters=()), significant=True,

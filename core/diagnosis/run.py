@@ -714,7 +714,7 @@ def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Pa
         weights = recalibration_weights(cand)
         start = local_fit(ctx, nuisance, cand.addition, start_responses(cand))
         if ctx.found_before.get(cand.name):
-            chosen = better_start(ctx, cand.addition, start, ctx.found_before[cand.name])
+            chosen = better_start(ctx, nuisance, cand.addition, start, ctx.found_before[cand.name])
             if chosen is not start:
                 say(f"  starting {cand.name} where the earlier round's recalibration of it ended: "
                     + ", ".join(f"{k} = {v:.4g}" for k, v in ctx.found_before[cand.name].items()))

@@ -194,20 +194,22 @@ def training_residuals(ctx: Context, addition, values: dict[str, float]) -> np.n
     return np.where(np.isfinite(r), r, 0.0)
 
 
-def better_start(ctx: Context, addition, start: dict[str, float], earlier: dict[str, float]) -> dict[str, float]:
-    """``start`` with the effect's parameters where an earlier round's recalibration of the same
-    effect put them (``earlier``), if that fits the training data better, else ``start``.
+def better_start(ctx: Context, nuisance, addition, start: dict[str, float], earlier: dict[str, float]) -> dict[str, float]:
+    """A second warm start, from where an earlier round's recalibration of the same effect put
+    its parameters (``earlier``), the tuners fitted again around them (:func:`local_fit`): taken
+    if it fits the training data better than ``start``, else ``start``.
 
     A further round diagnoses the model recalibrated with the first claim; its warm start for
     a second effect comes from that round's screening, which the first claim's recalibration
-    has bent: a water-to-water start-up lag the first round had found at 153 s (truth 180 s)
-    beside a heat loss started the second round at 25 s, its search stayed at 36 s, and the
-    lag was not claimed (blind pair 3631)."""
+    has bent: a water-to-water start-up lag round 1 had found at 153 s (truth 180 s) beside a
+    heat loss started round 2 at 25 s and its search stayed at 36 s (blind pair 3631). Put back
+    at 153 s with the tuners left where the 25-s start had them (the heat loss at 164 W/K, which
+    then counts the lag's cooling twice), it fitted worse; the tuners are fitted again first."""
     names = {p.name for p in addition.parameters} if addition is not None else set()
     moved = {k: float(v) for k, v in earlier.items() if k in names}
-    if not moved:
+    if not moved or all(start.get(k) == v for k, v in moved.items()):
         return start
-    other = {**start, **moved}
+    other = local_fit(ctx, nuisance, addition, start={**start, **moved})
     here, there = training_residuals(ctx, addition, start), training_residuals(ctx, addition, other)
     if there is None or (here is not None and float(here @ here) <= float(there @ there)):
         return start
