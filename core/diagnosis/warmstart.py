@@ -202,7 +202,7 @@ def better_start(ctx: Context, nuisance, addition, start: dict[str, float], earl
     A further round diagnoses the model recalibrated with the first claim; its warm start for
     an effect comes from that round's screening, which the first claim's recalibration has
     bent, and the earlier round may already have found the effect's setting. Re-diagnosed on
-    eight stored cases it changed no claim; where it applied, the round-2 searches ended better:
+    seven stored cases it changed no claim; where it applied, the round-2 searches ended better:
     beside an air backup heater, a cycling from -760 % to -97 % and an offset-gain from -14 % to
     -10 % beyond re-tuning (blind pair 3632). The case it was written for, a water-to-water
     start-up lag found at 153 s in round 1 (truth 180 s) and at 36 s in round 2 beside a heat
