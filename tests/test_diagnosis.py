@@ -831,9 +831,10 @@ def test_a_further_round_starts_each_effect_also_where_the_earlier_round_left_it
 
     lag = simgap.EffectAddition(switch={"useStartUpLag": 1.0}, parameters=(EffectParameter("tauStartUp", 180.0, 30.0, 900.0),))
 
-    def misfit(ctx, addition, values):
+    def misfit(ctx, addition, values, scale):
         return np.array([values["tauStartUp"] - 180.0, values["UALossGen"] - 150.0])
 
+    monkeypatch.setattr(warmstart, "training_scale", lambda ctx: {})
     monkeypatch.setattr(warmstart, "training_residuals", misfit)
     monkeypatch.setattr(warmstart, "local_fit", lambda ctx, nuisance, addition, start=None: {**start, "UALossGen": 150.0})
     start = {"UALossGen": 156.0, "tauStartUp": 24.6}
@@ -841,7 +842,8 @@ def test_a_further_round_starts_each_effect_also_where_the_earlier_round_left_it
     assert warmstart.better_start(None, None, lag, start, {"tauStartUp": 152.7}) == {"UALossGen": 150.0, "tauStartUp": 152.7}
     assert warmstart.better_start(None, None, lag, start, {"tauStartUp": 600.0}) is start  # fits worse: kept
     assert warmstart.better_start(None, None, lag, start, {"UALossGen": 150.0}) is start  # not this effect's parameter
-    monkeypatch.setattr(warmstart, "training_residuals", lambda ctx, addition, values: None if values["tauStartUp"] > 100 else misfit(ctx, addition, values))
+    monkeypatch.setattr(warmstart, "training_residuals",
+                        lambda ctx, addition, values, scale: None if values["tauStartUp"] > 100 else misfit(ctx, addition, values, scale))
     assert warmstart.better_start(None, None, lag, start, {"tauStartUp": 152.7}) is start  # a failed simulation: kept
 
     # the wiring: round 1's own recalibrations are handed on, not the joint ones or the control

@@ -517,7 +517,7 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
         # each effect this round recalibrated on its own starts the next round's search a
         # second time where it ended here (warmstart.better_start)
         found = {**ctx.found_before, **{r["effect"]: dict(r["effect_parameters"]) for r in shrink
-                                        if r.get("effect_parameters") and "on_top_of" not in r and "_and_" not in r.get("effect", "")}}
+                                        if r.get("effect_parameters") and "on_top_of" not in r}}
         further = diagnose(result["run"], solution=result["solution"], output=folder / "then",
                            overrides=overrides, progress=(lambda m: say("  " + m)), found_before=found)
     except Exception as exc:  # a failed further round leaves this round's findings intact

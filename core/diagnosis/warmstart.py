@@ -130,8 +130,10 @@ def local_fit(
             out[name] = float(np.exp(np.log(lo) + u * (np.log(hi) - np.log(lo)))) if log else float(lo + u * (hi - lo))
         return out
 
+    scale = training_scale(ctx)
+
     def residuals(x):
-        return training_residuals(ctx, addition, values(x))
+        return training_residuals(ctx, addition, values(x), scale)
 
     cache: dict[bytes, np.ndarray] = {}
 
@@ -170,21 +172,29 @@ def local_fit(
     return values(fit.x)
 
 
-def training_residuals(ctx: Context, addition, values: dict[str, float]) -> np.ndarray | None:
-    """The training residuals with ``values`` (tuners and effect parameters; the rest as
-    diagnosed) and ``addition`` switched on, each target scaled by its residual's spread at the
-    diagnosed solution; None where a simulation fails."""
-    from .context import simulate
+def _training(ctx: Context) -> list:
+    return [p for p in ctx.pieces if p.kind == "training"] or ctx.pieces
 
-    training = [p for p in ctx.pieces if p.kind == "training"] or ctx.pieces
-    switch = dict(addition.switch) if addition is not None else {}
-    params = {**ctx.parameters, **switch, **values}
+
+def training_scale(ctx: Context) -> dict[str, float]:
+    """Per target, the spread of the training residual at the diagnosed solution (1 where none)."""
     scale = {}
     for t in ctx.targets:
-        spread = float(np.nanstd(np.concatenate([p.measured[t] - p.simulated[t] for p in training])))
+        spread = float(np.nanstd(np.concatenate([p.measured[t] - p.simulated[t] for p in _training(ctx)])))
         scale[t] = spread if spread > 0 else 1.0
+    return scale
+
+
+def training_residuals(ctx: Context, addition, values: dict[str, float], scale: dict[str, float]) -> np.ndarray | None:
+    """The training residuals with ``values`` (tuners and effect parameters; the rest as
+    diagnosed) and ``addition`` switched on, each target divided by its ``scale``
+    (:func:`training_scale`); None where a simulation fails."""
+    from .context import simulate
+
+    switch = dict(addition.switch) if addition is not None else {}
+    params = {**ctx.parameters, **switch, **values}
     parts = []
-    for piece in training:
+    for piece in _training(ctx):
         sim = simulate(piece.setup, params, addition)
         if sim is None:
             return None
@@ -213,7 +223,8 @@ def better_start(ctx: Context, nuisance, addition, start: dict[str, float], earl
     if not moved or all(start.get(k) == v for k, v in moved.items()):
         return start
     other = local_fit(ctx, nuisance, addition, start={**start, **moved})
-    here, there = training_residuals(ctx, addition, start), training_residuals(ctx, addition, other)
+    scale = training_scale(ctx)
+    here, there = training_residuals(ctx, addition, start, scale), training_residuals(ctx, addition, other, scale)
     if there is None or (here is not None and float(here @ here) <= float(there @ there)):
         return start
     return other
