@@ -1617,6 +1617,60 @@ def thirty_fourth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_fifth_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-fifth blind set (issue 14), written and committed before any of it ran: the first
+    blind run of session 39's rules (of two effects the data do not tell apart, one that fits a
+    reading at another's cost is named second; a further round also starts each effect where the
+    earlier round left it). Seeds 3701-3732; strengths, seasons and noise levels chosen afresh;
+    every effect of each model and every generic one, with an air-source power meter reading 12 %
+    high, a water-to-water supply thermometer 0.6 K low, a time constant of 900 s on the air-source
+    flow thermometer and on the water-to-water power meter, a clock 20 minutes late on the
+    air-source logger and 30 minutes early on the water-to-water one, an air-source compressor speed
+    signal logged 10 % low (an input never tried before) and a water-to-water pyranometer 30 % low;
+    six null cases (five with a tuner at a bound never tried before, one with less noise); three
+    pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("winter", "autumn", "winter", "autumn")
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 520.0}, seed=3701, seasons=mixed),
+        B(air, "heat_loss", strength={"UALossCon": 50.0, "UALossPipe": 6.0}, seed=3702, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 480.0}, seed=3703, seasons=autumn),
+        B(air, "post_run", strength={"tPostRun": 800.0}, seed=3704, seasons=mixed),
+        B(air, "backup_heater", strength={"TOdaBackup": 276.65, "PBackup": 7000.0}, seed=3705, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 2000.0, "tDefrost": 700.0, "fDefrostQ": 0.3}, seed=3706, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 308.15, "dTCycHys": 3.0, "tCycMinRun": 1500.0, "tCycMinOff": 1200.0}, seed=3707, seasons=autumn),
+        B(air, "clock_shift", shift_s=1200.0, seed=3708, seasons=mixed),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.12)}, seed=3709, seasons=winter),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 900.0}, seed=3710, seasons=winter),
+        B(air, "input_gain_error", input_gain={"nSpeedHP_invCtrl0_1": 0.9}, seed=3711, seasons=mixed),
+        B(w2w, "heat_loss", strength={"UALossGen": 600.0}, seed=3712, seasons=winter),
+        B(w2w, "sensor_lag", strength={"tauSensor": 3000.0}, seed=3713, seasons=mixed),
+        B(w2w, "post_run", strength={"tPostRun": 3000.0}, seed=3714, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 850.0}, seed=3715, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 12000.0}, seed=3716, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 3000.0, "tCycMinOff": 1000.0, "plrCycMin": 0.7}, seed=3717, seasons=winter),
+        B(w2w, "clock_shift", shift_s=-1800.0, seed=3718, seasons=autumn),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.6, 1.0)}, seed=3719, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 900.0}, seed=3720, seasons=autumn),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 0.7}, seed=3721, seasons=autumn),
+        # null cases
+        B(air, None, seed=3722, seasons=mixed, noise_scale=0.9),
+        B(air, None, seed=3723, truth={"T_fixAmbTestHall": synth.MODELS[air].tuners["T_fixAmbTestHall"].lower}),
+        B(air, None, seed=3724, truth={"fPWarm": synth.MODELS[air].tuners["fPWarm"].upper}),
+        B(w2w, None, seed=3725, truth={"TZoneSet_K": synth.MODELS[w2w].tuners["TZoneSet_K"].lower}),
+        B(w2w, None, seed=3726, truth={"dTCtrlBand": synth.MODELS[w2w].tuners["dTCtrlBand"].lower}),
+        B(w2w, None, seed=3727, truth={"flowRatioSrcDem": synth.MODELS[w2w].tuners["flowRatioSrcDem"].upper}),
+        # two effects at once
+        B(air, "sensor_lag", also=("heat_loss",), seed=3730, seasons=mixed),
+        B(w2w, "cycling", also=("sensor_lag",), seed=3731, seasons=winter),
+        B(air, "start_up_lag", also=("backup_heater",), seed=3732, seasons=winter),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1647,7 +1701,7 @@ BLIND_SETS = {
     "twenty_sixth": twenty_sixth_cases, "twenty_seventh": twenty_seventh_cases,
     "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
     "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases, "thirty_third": thirty_third_cases,
-    "thirty_fourth": thirty_fourth_cases,
+    "thirty_fourth": thirty_fourth_cases, "thirty_fifth": thirty_fifth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
