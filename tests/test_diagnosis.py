@@ -668,6 +668,37 @@ def test_an_effect_no_better_on_the_training_data_it_was_fitted_to_is_not_claime
     assert not delay.fitted_no_better and not delay.claimed
 
 
+def test_nothing_is_claimed_where_re_tuning_alone_fits_every_target_to_within_the_noise():
+    """A blind null case (set 34, an air unit with a tuner at its bound, re-tuned): re-tuning
+    alone left 0.31 and 0.81 noise variances above the floor on the two targets, and a 22-s
+    on-delay then "shrank" that remainder 25 % beyond re-tuning. Nothing is left for an effect to
+    explain there: no claim, and the verdict and the control's section say why. One target
+    clearly above the noise is enough for the claim to stand."""
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+    from simgap.diagnosis.shrink import within_noise
+
+    def control(thcflow_rmse):
+        return {"above_noise": {"THCFlow_K": {"rmse_before": 0.0573, "rmse_after": thcflow_rmse, "noise": 0.0501, "noise_before": 0.0501},
+                                "PEl_W": {"rmse_before": 13.58, "rmse_after": 13.58, "noise": 10.11, "noise_before": 10.11}}}
+
+    fitted = within_noise(control(0.0573))
+    assert fitted == pytest.approx({"THCFlow_K": 0.308, "PEl_W": 0.804}, abs=0.01)
+    assert within_noise(control(0.0573 * 1.5)) == {}  # THCFlow_K 1.94 noise variances above: room for an effect
+    assert within_noise(None) == {} and within_noise({"above_noise": {}}) == {}
+
+    delay = Candidate("on_off_delay", "", "", True, significant=True, confirm=True, min_shrink=0.2, share=0.13, p_value=4e-12)
+    delay.gap_shrink, delay.shrink_vs_control, delay.p_vs_control, delay.training_shrink_vs_control = 0.56, 0.25, 1e-26, 0.2
+    assert delay.claimed
+    delay.within_noise = fitted
+    assert not delay.claimed and delay.within_noise_only
+    assert not (delay.undecided or delay.like_retuning or delay.not_confirmed or delay.fitted_no_better)
+    text = verdict([delay], control_shrink=0.0)
+    assert text.startswith("no confirmed unmodelled effect; not claimed, re-tuning alone fits every target to within the noise "
+                           "(THCFlow_K: 0.31 noise variances above the floor, PEl_W: 0.8 noise variances above the floor), "
+                           "so nothing is left for an effect to explain: on_off_delay (25% beyond re-tuning of that remainder)")
+
+
 def test_a_switching_effect_is_weighed_where_its_envelope_stands_out():
     """Winter cycling the model lacks: out of phase with the record, it explained 1 % of the
     power's residual sample by sample but 56 % of its envelope. Its recalibration is judged on

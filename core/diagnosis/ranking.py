@@ -144,6 +144,10 @@ class Candidate:
     simulated and the first pass's claim stood at the bounds of its ranges (standing in for
     another effect, :func:`simgap.diagnosis.run.recalibration_choice`): the screening pointed
     here by what the effect does as simulated."""
+    within_noise: dict[str, float] = field(default_factory=dict)
+    """Per target, the validation gap re-tuning alone leaves above the noise floor, in noise
+    variances, where every one is below one (:func:`simgap.diagnosis.shrink.within_noise`):
+    nothing is left for an effect to explain, and none is claimed."""
     best_setting: int | None = None
     """Index in ``responses`` of the setting that explained most on the effect's best target."""
     """(effect parameter values, simulated change per target) at every screened setting."""
@@ -157,6 +161,17 @@ class Candidate:
 
     @property
     def claimed(self) -> bool:
+        """Significant, and where a recalibration ran, confirmed by a real shrink of the gap, of
+        a gap re-tuning alone does not bring to within the noise."""
+        return self.confirmed and not self.within_noise
+
+    @property
+    def within_noise_only(self) -> bool:
+        """Confirmed by every other test, but re-tuning alone fits every target to within the noise."""
+        return self.confirmed and bool(self.within_noise)
+
+    @property
+    def confirmed(self) -> bool:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap."""
         if not (self.significant or (self.pointed_at and self.gap_shrink is not None)):
             return False
@@ -242,7 +257,7 @@ class Candidate:
         strongest such ones where nothing is claimed, so that "nothing found" never hides where
         the screening pointed (a switching effect's fit can be too narrow for the search)."""
         return (self.pointed_at and self.gap_shrink is not None and not self.claimed and not self.undecided
-                and not self.like_retuning and not self.reopened and not self.fitted_no_better)
+                and not self.like_retuning and not self.reopened and not self.fitted_no_better and not self.within_noise_only)
 
     def as_dict(self) -> dict:
         return {
@@ -271,6 +286,7 @@ class Candidate:
             "beyond_first": self.beyond_first,
             "first": self.first,
             "claimed": self.claimed,
+            "within_noise": self.within_noise,
             "per_target": self.per_target,
             "envelope": self.envelope,
             "envelope_significant": self.envelope_significant,

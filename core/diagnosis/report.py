@@ -10,6 +10,7 @@ import numpy as np
 
 from .context import ROLES, Context
 from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, REOPENS_AT_MOST
+from .shrink import within_noise
 from .where import gap_warning, holds_more_error, rolling_error, worst_windows
 
 
@@ -215,7 +216,7 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     else:
         # "significant" is the screening's word: once a significant effect has been recalibrated
         # and not borne out, nothing was confirmed, which is not the same as nothing significant
-        unfitted = [c for c in candidates if c.applicable and c.fitted_no_better]
+        unfitted = [c for c in candidates if c.applicable and (c.fitted_no_better or c.within_noise_only)]
         parts.append("no significant unmodelled effect" if not (possible or alike or undecided or rejected or unfitted)
                      else "no confirmed unmodelled effect")
         threshold = max((c.min_shrink for c in candidates), default=0.2)  # the screened ones carry the setting
@@ -271,6 +272,14 @@ def caveats(candidates) -> list[str]:
         parts.append("not claimed, each fits some targets at another's cost: " + "; ".join(
             f"{c.name} (" + ", ".join(f"leaves {v:.0%} of the gap on {t} that re-tuning alone closes" for t, v in c.reopened.items())
             + ")" for c in traded))
+    fitted = [c for c in candidates if c.applicable and c.within_noise_only][:2]
+    if fitted:
+        gaps = fitted[0].within_noise
+        parts.append("not claimed, re-tuning alone fits every target to within the noise ("
+                     + ", ".join(f"{t}: {g:.2g} noise variances above the floor" for t, g in gaps.items())
+                     + "), so nothing is left for an effect to explain: " + "; ".join(
+                         f"{c.name} ({c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink:.0%} "
+                         "beyond re-tuning of that remainder)" for c in fitted))
     unfitted = [c for c in candidates if c.applicable and c.fitted_no_better][:2]
     if unfitted:
         parts.append("not claimed, no better than re-tuning alone on the training data it was fitted to: " + "; ".join(
@@ -564,7 +573,13 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             for t, v in noise.items():
                 lines.append(f"| {t} | {_fmt(v['rmse_before'])} | {_fmt(v['rmse_after'])} | {_fmt(v['noise'])} | {_pct(v['shrink'])} |")
         if is_control:
-            lines += ["", f"Re-tuning alone shrinks the gap above the noise floor by {_pct(s['gap_shrink'])}.", ""]
+            lines += ["", f"Re-tuning alone shrinks the gap above the noise floor by {_pct(s['gap_shrink'])}."]
+            fitted = within_noise(s)
+            if fitted:
+                lines += ["", "It fits every target to within the noise (the gap it leaves above the floor: "
+                          + ", ".join(f"{t} {g:.2g} noise variances" for t, g in fitted.items())
+                          + ", each under one): nothing is left for an effect to explain, and none is claimed."]
+            lines.append("")
             continue
         if s.get("confirmed_on") == "training":
             lines += ["", f"The validation data hold almost none of what this effect changes, so it is confirmed on the training "

@@ -14,7 +14,7 @@ from .context import build_context
 from .ranking import AS_SIMULATED_SLOT, REOPENS_AT_MOST, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import caveats, control_gap_shrink, verdict, write
 from ..interfaces import EffectAddition
-from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate, weak_end
+from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate, weak_end, within_noise
 from .warmstart import better_start, local_fit
 from .where import analyse, gap_warning
 
@@ -579,8 +579,17 @@ def diagnose(
         say(f"control recalibration without an effect ({_budget(ctx)})")
         none = EffectAddition(switch={}, parameters=())
         control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance))
+        fitted = within_noise(control)
+        if fitted:
+            say("re-tuning alone fits every target to within the noise (" + ", ".join(f"{t}: {g:.2g} noise variances above the floor"
+                                                                                      for t, g in fitted.items()) + "): no effect is claimed")
+            for cand in candidates:
+                cand.within_noise = dict(fitted)
     _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
-    if chosen and ctx.config.recalibrate.second_pass and not _settled(chosen, ctx.config.recalibrate.second_pass_below):
+    # within the noise, no further recalibration can confirm anything: the first pass's shrinks
+    # stay in the report, what more would cost is saved
+    if (chosen and ctx.config.recalibrate.second_pass and not within_noise(control)
+            and not _settled(chosen, ctx.config.recalibrate.second_pass_below)):
         # none of the first confirmed, or only with every effect parameter at a bound (of six
         # such claims on blind sets 5-8, four were wrong): the screening's share is a cheap guess
         # of which effect a recalibration would confirm, and it misleads where a tuner has made
