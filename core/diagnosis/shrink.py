@@ -425,8 +425,8 @@ def within_noise(control: dict | None) -> dict[str, float]:
     floor's estimate and the discretisation of the simulation, not the plant. A null case of the
     thirty-fourth blind set (a tuner at its bound, re-tuned to 0.31 and 0.81 noise variances)
     claimed a 22-s on-delay there, at 25 % beyond re-tuning, beside a heat loss at 22 % and a
-    start-up lag at 17 %; in the 110 first- and second-round diagnoses stored from blind sets
-    30-34 no right claim came from a control within the noise (chosen on those, not blind)."""
+    start-up lag at 17 %; in the 118 first- and second-round diagnoses stored from blind sets
+    30-34 no other claim came from a control within the noise (chosen on those, not blind)."""
     gaps = {}
     for t, v in ((control or {}).get("above_noise") or {}).items():
         sigma = v.get("noise_before", v.get("noise"))
