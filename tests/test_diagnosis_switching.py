@@ -357,3 +357,32 @@ def test_an_effect_of_alternatives_adds_only_the_best_screened_parameter():
     # the typical setting and the flow's two settings stay, each with the flow's gain only
     assert [set(s) for s, _ in kept] == [{"inputGain_flow"}] * 3
     assert kept[index][1]["T"][0] == float(best)
+
+
+def test_a_near_claim_at_its_bounds_gives_the_stand_in_its_slot():
+    """Blind case 3705: an air backup heater (7 kW below 3.5 degC) the capacity and power scales
+    at their upper bounds had taken up. The first pass claimed nothing; the thermometer offset
+    and meter gain ended at their bounds (2 K, 1.3) 18 % beyond re-tuning, under the 20 % a claim
+    needs. That near claim at its bounds is the same sign of a stand-in as a claim there; further
+    from the threshold, or inside its ranges, it is not."""
+    from simgap.diagnosis.run import stood_in
+
+    offset_gain = _candidate("sensor_offset_gain", 0.84, False)
+    cycling = _candidate("cycling", 0.16, True)
+    for c in (offset_gain, cycling):
+        c.confirm, c.min_shrink, c.p_vs_control = True, 0.2, 1e-10
+    offset_gain.gap_shrink, offset_gain.shrink_vs_control = 0.18, 0.18
+    cycling.gap_shrink, cycling.shrink_vs_control = 0.14, 0.13
+    offset_gain.at_bounds = {"offset_THCFlow_K": 2.0, "gain_PEl_W": 1.3}
+    assert not any(c.claimed for c in (offset_gain, cycling))
+    assert stood_in([offset_gain, cycling])
+    offset_gain.shrink_vs_control = 0.09  # a null case's input gain at its bound, 9 %: no near claim
+    assert not stood_in([offset_gain, cycling])
+    offset_gain.shrink_vs_control, offset_gain.at_bounds = 0.18, {}  # inside its ranges
+    assert not stood_in([offset_gain, cycling])
+    # a claim inside its ranges settles it, whatever else stood at its bounds
+    offset_gain.at_bounds = {"offset_THCFlow_K": 2.0, "gain_PEl_W": 1.3}
+    cycling.shrink_vs_control = 0.4
+    assert cycling.claimed and not stood_in([offset_gain, cycling])
+    cycling.at_bounds = {"tCycMinRun": 1800.0}  # the claim itself at its bounds: as before
+    assert stood_in([offset_gain, cycling])
