@@ -572,7 +572,7 @@ def diagnose(
     chosen = recalibration_choice(candidates, budget)
     for cand in candidates:
         cand.confirm = budget > 0
-    control = None
+    control, fitted = None, {}
     if chosen:
         # the control: the same re-tuning without any effect, so a shrink that re-tuning alone
         # achieves is not credited to an effect
@@ -588,7 +588,7 @@ def diagnose(
     _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
     # within the noise, no further recalibration can confirm anything: the first pass's shrinks
     # stay in the report, what more would cost is saved
-    if (chosen and ctx.config.recalibrate.second_pass and not within_noise(control)
+    if (chosen and ctx.config.recalibrate.second_pass and not fitted
             and not _settled(chosen, ctx.config.recalibrate.second_pass_below)):
         # none of the first confirmed, or only with every effect parameter at a bound (of six
         # such claims on blind sets 5-8, four were wrong): the screening's share is a cheap guess
