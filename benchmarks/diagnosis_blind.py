@@ -1671,6 +1671,62 @@ def thirty_fifth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_sixth_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-sixth blind set (issue 14), written and committed before any of it ran: the first
+    blind run of session 40's rules (nothing claimed where re-tuning alone fits every target to
+    within the noise; a near claim at its bounds gives the stand-in its second-pass slot). Seeds
+    3801-3832; strengths, seasons and noise levels chosen afresh; every effect of each model and
+    every generic one, with an air-source flow thermometer reading 0.6 K high and a
+    water-to-water power meter 15 % high, a time constant of 500 s on the air-source power meter
+    and of 600 s on the water-to-water supply thermometer, a clock 15 minutes early on the
+    air-source logger and 15 minutes late on the water-to-water one, an air flow meter logged
+    15 % high and a water-to-water pyranometer 35 % high; six null cases (tuners at bounds never
+    tried before: the air-source `fPCold` at its upper and `scaleHPPEl_nominal` at its lower
+    bound, and two water-to-water tuners at bounds at once; more noise; lost rows); three
+    pairs."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("autumn", "autumn", "winter", "winter")
+    t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 360.0}, seed=3801, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 20.0}, seed=3802, seasons=autumn),
+        B(air, "sensor_lag", strength={"tauSensor": 250.0}, seed=3803, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 550.0}, seed=3804, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 4000.0}, seed=3805, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3600.0, "tDefrost": 500.0, "fDefrostQ": 0.45}, seed=3806, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 316.15, "dTCycHys": 6.0, "tCycMinRun": 1000.0, "tCycMinOff": 900.0}, seed=3807, seasons=mixed),
+        B(air, "clock_shift", shift_s=-900.0, seed=3808, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.6, 1.0)}, seed=3809, seasons=autumn),
+        B(air, "sensor_time_constant", lag={"PEl_W": 500.0}, seed=3810, seasons=autumn),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.15}, seed=3811, seasons=winter),
+        B(w2w, "heat_loss", strength={"UALossGen": 350.0}, seed=3812, seasons=mixed),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1200.0}, seed=3813, seasons=winter),
+        B(w2w, "post_run", strength={"tPostRun": 1200.0}, seed=3814, seasons=autumn),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 600.0}, seed=3815, seasons=winter),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 276.15, "PBackup": 8000.0}, seed=3816, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1500.0, "tCycMinOff": 2500.0, "plrCycMin": 0.35}, seed=3817, seasons=autumn),
+        B(w2w, "clock_shift", shift_s=900.0, seed=3818, seasons=winter),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.15)}, seed=3819, seasons=mixed),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 600.0}, seed=3820, seasons=winter),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 1.35}, seed=3821, seasons=autumn),
+        # null cases
+        B(air, None, seed=3822, seasons=autumn, noise_scale=1.5),
+        B(air, None, seed=3823, truth={"fPCold": t_air["fPCold"].upper}),
+        B(air, None, seed=3824, truth={"scaleHPPEl_nominal": t_air["scaleHPPEl_nominal"].lower}),
+        B(w2w, None, seed=3825, seasons=winter, noise_scale=1.3),
+        B(w2w, None, seed=3826, truth={"nInf_1_h": t_w2w["nInf_1_h"].upper, "THeaCurY2_K": t_w2w["THeaCurY2_K"].lower}),
+        B(w2w, None, seed=3827, seasons=autumn, missing_fraction=0.03),
+        # two effects at once
+        B(air, "defrost", also=("post_run",), seed=3830, seasons=winter),
+        B(w2w, "post_run", also=("sensor_lag",), seed=3831, seasons=autumn),
+        B(air, "heat_loss", also=("start_up_lag",), seed=3832, seasons=autumn),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1702,6 +1758,7 @@ BLIND_SETS = {
     "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
     "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases, "thirty_third": thirty_third_cases,
     "thirty_fourth": thirty_fourth_cases, "thirty_fifth": thirty_fifth_cases,
+    "thirty_sixth": thirty_sixth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
