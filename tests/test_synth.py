@@ -118,3 +118,27 @@ def test_unknown_parameter_names_the_variable(tmp_path, cache):
     with pytest.raises(simgap.ModelError, match="noSuchParameter"):
         synth.write_dataset(tmp_path / "x.parquet", "brine_water_hp", parameters={"noSuchParameter": 1.0},
                             cache_dir=cache)
+
+
+def test_every_blind_case_has_a_seed_of_its_own_and_valid_settings():
+    """The blind sets are data written before they ran (benchmarks/diagnosis_blind.py): a case
+    copied into a new set with its seed left as it was would run the same record twice, and a
+    tuner or effect parameter misspelt would fail only when its turn comes, an hour into a run."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "diagnosis_blind.py"
+    spec = importlib.util.spec_from_file_location("diagnosis_blind", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    seen: dict[int, str] = {}
+    for name, make in bench.BLIND_SETS.items():
+        for case in make(["air_source_hp", "water_to_water_hp"]):
+            assert case.seed not in seen, f"seed {case.seed} in {name} and {seen[case.seed]}"
+            seen[case.seed] = name
+            model = synth.MODELS[case.model]
+            assert set(case.truth) <= set(model.tuners), (name, case.seed, case.truth)
+            assert set(case.also) <= set(model.effects), (name, case.seed, case.also)
+            if case.effect in model.effects:
+                assert set(case.strength) <= set(model.effects[case.effect].parameters), (name, case.seed, case.strength)
+    assert len(seen) > 900
