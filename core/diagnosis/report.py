@@ -274,10 +274,8 @@ def caveats(candidates) -> list[str]:
             + ")" for c in traded))
     fitted = [c for c in candidates if c.applicable and c.within_noise_only][:2]
     if fitted:
-        gaps = fitted[0].within_noise
-        parts.append("not claimed, re-tuning alone fits every target to within the noise ("
-                     + ", ".join(f"{t}: {g:.2g} noise variances above the floor" for t, g in gaps.items())
-                     + "), so nothing is left for an effect to explain: " + "; ".join(
+        parts.append(f"not claimed, re-tuning alone fits every target to within the noise ({noise_gaps(fitted[0].within_noise)}), "
+                     "so nothing is left for an effect to explain: " + "; ".join(
                          f"{c.name} ({c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink:.0%} "
                          "beyond re-tuning of that remainder)" for c in fitted))
     unfitted = [c for c in candidates if c.applicable and c.fitted_no_better][:2]
@@ -296,6 +294,11 @@ def caveats(candidates) -> list[str]:
 
         parts.append("re-tuning alone does nearly as well as " + "; ".join(like(c) for c in alike))
     return parts
+
+
+def noise_gaps(gaps: dict[str, float]) -> str:
+    """"T: g noise variances above the floor, …" for :func:`simgap.diagnosis.shrink.within_noise`'s gaps."""
+    return ", ".join(f"{t}: {g:.2g} noise variances above the floor" for t, g in gaps.items())
 
 
 def twin(c) -> str:

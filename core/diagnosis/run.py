@@ -12,7 +12,7 @@ from ..errors import PluginError
 from ..plugin_host import get_registry
 from .context import build_context
 from .ranking import AS_SIMULATED_SLOT, REOPENS_AT_MOST, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
-from .report import caveats, control_gap_shrink, verdict, write
+from .report import caveats, control_gap_shrink, noise_gaps, verdict, write
 from ..interfaces import EffectAddition
 from .shrink import CONTROL, RESIDUALS, RESIDUALS_TRAINING, bounds_reached, improvement_p_value, recalibrate, weak_end, within_noise
 from .warmstart import better_start, local_fit
@@ -581,8 +581,7 @@ def diagnose(
         control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance))
         fitted = within_noise(control)
         if fitted:
-            say("re-tuning alone fits every target to within the noise (" + ", ".join(f"{t}: {g:.2g} noise variances above the floor"
-                                                                                      for t, g in fitted.items()) + "): no effect is claimed")
+            say(f"re-tuning alone fits every target to within the noise ({noise_gaps(fitted)}): no effect is claimed")
             for cand in candidates:
                 cand.within_noise = dict(fitted)
     _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
