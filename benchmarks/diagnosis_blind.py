@@ -1727,6 +1727,62 @@ def thirty_sixth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_seventh_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-seventh blind set (issue 14), written and committed before any of it ran: a
+    second blind run of session 40's rules. Seeds 3901-3932; strengths, seasons and noise levels
+    chosen afresh; every effect of each model and every generic one, with an air-source flow
+    thermometer reading 0.4 K low and a water-to-water power meter 12 % low, a time constant of
+    700 s on the air-source flow thermometer and of 1000 s on the water-to-water power meter, a
+    clock 25 minutes late on the air-source logger and 20 minutes early on the water-to-water
+    one, an air-source **condenser pump speed** logged 10 % low (an input never tried) and a
+    water-to-water pyranometer 22 % low; six null cases (pairs of tuners at bounds never tried
+    together: the air-source `tauVolCon` upper with `lambdaIns` lower, `fQMed` lower with
+    `fPMed` upper, the water-to-water `hCutIn` upper with `tankHD` lower; more noise; lost
+    rows); three pairs, one of them a physical effect beside a generic one (a water-to-water
+    heat loss with the clock 10 minutes late)."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("autumn", "winter", "autumn", "winter")
+    t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=3901, seasons=winter),
+        B(air, "heat_loss", strength={"UALossCon": 45.0, "UALossPipe": 10.0}, seed=3902, seasons=mixed),
+        B(air, "sensor_lag", strength={"tauSensor": 420.0}, seed=3903, seasons=autumn),
+        B(air, "post_run", strength={"tPostRun": 350.0}, seed=3904, seasons=winter),
+        B(air, "backup_heater", strength={"TOdaBackup": 277.15, "PBackup": 2500.0}, seed=3905, seasons=mixed),
+        B(air, "defrost", strength={"tDefrostInterval": 5000.0, "tDefrost": 250.0, "fDefrostQ": 0.7}, seed=3906, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 323.15, "dTCycHys": 8.0, "tCycMinRun": 600.0, "tCycMinOff": 1500.0}, seed=3907, seasons=autumn),
+        B(air, "clock_shift", shift_s=1500.0, seed=3908, seasons=winter),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.4, 1.0)}, seed=3909, seasons=winter),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 700.0}, seed=3910, seasons=winter),
+        B(air, "input_gain_error", input_gain={"nSpeedPumpCon_1_0": 0.9}, seed=3911, seasons=autumn),
+        B(w2w, "heat_loss", strength={"UALossGen": 500.0}, seed=3912, seasons=autumn),
+        B(w2w, "sensor_lag", strength={"tauSensor": 2000.0}, seed=3913, seasons=mixed),
+        B(w2w, "post_run", strength={"tPostRun": 700.0}, seed=3914, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 400.0}, seed=3915, seasons=autumn),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 274.65, "PBackup": 5000.0}, seed=3916, seasons=mixed),
+        B(w2w, "cycling", strength={"tCycMinRun": 2000.0, "tCycMinOff": 1200.0, "plrCycMin": 0.5}, seed=3917, seasons=winter),
+        B(w2w, "clock_shift", shift_s=-1200.0, seed=3918, seasons=autumn),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 0.88)}, seed=3919, seasons=autumn),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 1000.0}, seed=3920, seasons=winter),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 0.78}, seed=3921, seasons=mixed),
+        # null cases
+        B(air, None, seed=3922, seasons=winter, noise_scale=1.2, missing_fraction=0.02),
+        B(air, None, seed=3923, truth={"tauVolCon": t_air["tauVolCon"].upper, "lambdaIns": t_air["lambdaIns"].lower}),
+        B(air, None, seed=3924, truth={"fQMed": t_air["fQMed"].lower, "fPMed": t_air["fPMed"].upper}),
+        B(w2w, None, seed=3925, seasons=autumn, noise_scale=1.5),
+        B(w2w, None, seed=3926, truth={"hCutIn": t_w2w["hCutIn"].upper, "tankHD": t_w2w["tankHD"].lower}),
+        B(w2w, None, seed=3927, seasons=mixed, missing_fraction=0.05),
+        # two effects at once
+        B(air, "backup_heater", also=("sensor_lag",), seed=3930, seasons=winter),
+        B(w2w, "heat_loss", seed=3931, seasons=autumn, shift_s=600.0),
+        B(air, "post_run", also=("heat_loss",), seed=3932, seasons=autumn),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1758,7 +1814,7 @@ BLIND_SETS = {
     "twenty_eighth": twenty_eighth_cases, "twenty_ninth": twenty_ninth_cases, "thirtieth": thirtieth_cases,
     "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases, "thirty_third": thirty_third_cases,
     "thirty_fourth": thirty_fourth_cases, "thirty_fifth": thirty_fifth_cases,
-    "thirty_sixth": thirty_sixth_cases,
+    "thirty_sixth": thirty_sixth_cases, "thirty_seventh": thirty_seventh_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
