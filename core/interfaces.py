@@ -433,3 +433,13 @@ class Effect(ABC):
         """Targets the declared signature is about (None: all). A sensor lag is about
         temperatures: its features are not tested against the electric power's residual."""
         return None
+
+    def settings_from_record(self, data: DiagnosisData, measured: DiagnosisData) -> list[Mapping[str, float]]:
+        """Settings of the effect's parameters that the measured record itself suggests, screened
+        beside the typical and spread ones and so open to the recalibration's warm start (a
+        minimum off time read from measured stops that outlast the command). ``measured`` is the
+        same view with the measured targets in place of the simulated ones (its roles read from
+        them: the measured power). Never a signature: a feature built from a measured target
+        would explain any residual of it. A parameter left out keeps its typical value; values
+        are clipped to the parameter's range. Default: none."""
+        return []

@@ -386,3 +386,64 @@ def test_a_near_claim_at_its_bounds_gives_the_stand_in_its_slot():
     assert cycling.claimed and not stood_in([offset_gain, cycling])
     cycling.at_bounds = {"tCycMinRun": 1800.0}  # the claim itself at its bounds: as before
     assert stood_in([offset_gain, cycling])
+
+
+def _switching_view(command: np.ndarray, power: np.ndarray, water: np.ndarray, dt: float = 10.0):
+    from simgap.interfaces import DiagnosisData
+
+    t = np.arange(len(command)) * dt
+    return DiagnosisData(time=t, segment=np.zeros(len(t), dtype=int), inputs={"cmd": command},
+                         simulated={"T": water, "P": power}, units={"T": "K", "P": "W"},
+                         roles={"compressor": command, "power": power}, variables={})
+
+
+def _commanded_cycles(hours: float = 30.0, on_s: float = 1500.0, off_s: float = 700.0, dt: float = 10.0, seed: int = 0):
+    """A command that runs ``on_s`` then rests ``off_s``, with 20 % jitter on each."""
+    rng = np.random.default_rng(seed)
+    out, state = [], True
+    while len(out) * dt < hours * 3600:
+        length = (on_s if state else off_s) * rng.uniform(0.8, 1.2)
+        out += [0.5 if state else 0.0] * int(length / dt)
+        state = not state
+    return np.array(out)
+
+
+def test_the_record_suggests_a_minimum_off_time_where_stops_outlast_the_command():
+    from plugins.effects import Cycling
+
+    dt, min_off = 10.0, 1000.0
+    command = _commanded_cycles(dt=dt)
+    rng = np.random.default_rng(1)
+    running = np.zeros(len(command), dtype=bool)
+    off_since, was_on = -1e9, False
+    for k, asked in enumerate(command > 0.05):
+        on = asked and (was_on or k * dt - off_since >= min_off)
+        if was_on and not on:
+            off_since = k * dt
+        running[k], was_on = on, on
+    water = 308.0 + 2.0 * running + rng.normal(0, 0.05, len(command))
+    measured_power = np.where(running, 1500.0, 40.0) + rng.normal(0, 20, len(command))
+    simulated_power = np.where(command > 0.05, 1500.0, 40.0)
+    simulated, measured = _switching_view(command, simulated_power, water), _switching_view(command, measured_power, water)
+    (setting,) = Cycling().settings_from_record(simulated, measured)
+    assert setting["tCycMinOff"] == pytest.approx(min_off, abs=2 * dt)
+    assert "tCycMinRun" not in setting and "TCycOff" not in setting
+    # the same record whose compressor follows its command suggests nothing
+    assert Cycling().settings_from_record(simulated, _switching_view(command, simulated_power + rng.normal(0, 20, len(command)), water)) == []
+    # nor does a slow power meter, which holds the measured power after the command by a spread of times
+    lagged = np.copy(simulated_power)
+    for k in range(1, len(lagged)):
+        lagged[k] = lagged[k - 1] + (simulated_power[k] - lagged[k - 1]) * dt / 500.0
+    assert Cycling().settings_from_record(simulated, _switching_view(command, lagged + rng.normal(0, 20, len(command)), water)) == []
+
+
+def test_screening_settings_take_the_records_suggestion_clipped_to_its_range():
+    from simgap.diagnosis.ranking import effect_settings
+    from simgap.interfaces import EffectParameter
+
+    addition = EffectAddition(switch={"useCycling": 1.0}, parameters=(
+        EffectParameter("TCycOff", 318.15, 303.15, 328.15, "K"), EffectParameter("tCycMinOff", 600.0, 60.0, 3600.0, "s", "log")))
+    plain = effect_settings(addition)
+    suggested = effect_settings(addition, from_record=[{"tCycMinOff": 900.0, "unknown": 1.0}, {"TCycOff": 400.0}])
+    assert suggested[: len(plain)] == plain
+    assert suggested[len(plain):] == [{"TCycOff": 318.15, "tCycMinOff": 900.0}, {"TCycOff": 328.15, "tCycMinOff": 600.0}]

@@ -570,14 +570,24 @@ design): a thermostat threshold that the typical value never reaches only acts t
 its hysteresis and minimum times, which one-at-a-time settings never combine."""
 
 
-def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int = JOINT_SETTINGS) -> list[dict[str, float]]:
+def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int = JOINT_SETTINGS,
+                    from_record: list | tuple = ()) -> list[dict[str, float]]:
     """Typical values, then each of the first three parameters at 20 % and 80 % of its range
     (in its own scale) with the others typical: a threshold or a time constant far from its
     typical value still shows in one of them. An effect with several parameters also gets
     ``joint`` settings of a scrambled Sobol design over all of them (fixed seed, so the
-    screening is reproducible): settings that only act in combination."""
+    screening is reproducible): settings that only act in combination. Last, the settings the
+    measured record suggests (``from_record``, :meth:`simgap.Effect.settings_from_record`), the
+    parameters they leave out typical, each value clipped to its range."""
     typical = {p.name: p.default for p in addition.parameters}
     settings = [typical]
+    bounds = {p.name: (p.lower, p.upper) for p in addition.parameters}
+    suggested = []
+    for setting in from_record:
+        values = {k: float(min(max(float(v), bounds[k][0]), bounds[k][1])) for k, v in dict(setting).items()
+                  if k in bounds and v is not None and math.isfinite(float(v))}
+        if values and {**typical, **values} not in suggested:
+            suggested.append({**typical, **values})
     for p in addition.parameters[:per_parameter]:
         if p.screen:
             settings += [{**typical, p.name: float(v)} for v in p.screen]
@@ -590,7 +600,7 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int
         points = qmc.Sobol(d=len(addition.parameters), scramble=True, seed=0).random(joint)
         # within 10-90 % of each range: the extremes are seldom the truth and often degenerate
         settings += [{p.name: _at(p, 0.1 + 0.8 * float(q)) for p, q in zip(addition.parameters, row)} for row in points]
-    return settings
+    return settings + [v for v in suggested if v not in settings]
 
 
 def alternative_setting(sample: tuple[int | None, float], envelope: tuple[int | None, float]) -> int | None:
@@ -631,12 +641,27 @@ def _names_parameters(entry, addition: EffectAddition) -> set[str]:
     return {v for v in entry.values() if isinstance(v, str) and v in names}
 
 
-def effect_responses(ctx: Context, addition: EffectAddition, alternatives: bool = False) -> list[tuple[dict[str, float], dict[str, np.ndarray]]]:
+def record_settings(ctx: Context, effect, data) -> list:
+    """The settings ``effect`` reads from the measured record (:meth:`simgap.Effect.settings_from_record`);
+    none where it fails: a suggestion is a help to the search, never a reason to stop."""
+    suggest = getattr(effect, "settings_from_record", None)
+    if suggest is None:
+        return []
+    try:
+        return list(suggest(data, ctx.data(simulated=ctx.joined("measured"))) or [])
+    except Exception:  # a plugin's suggestion that fails leaves the screening as it was
+        return []
+
+
+def effect_responses(ctx: Context, addition: EffectAddition, alternatives: bool = False,
+                     from_record: list | tuple = ()) -> list[tuple[dict[str, float], dict[str, np.ndarray]]]:
     """(setting, simulated change of every target with the effect switched on) per setting.
-    ``alternatives`` (:attr:`simgap.Effect.alternatives`): every parameter alone, nothing jointly."""
+    ``alternatives`` (:attr:`simgap.Effect.alternatives`): every parameter alone, nothing jointly.
+    ``from_record``: settings the measured record suggests (:func:`effect_settings`)."""
     base = ctx.joined("simulated")
     out = []
-    settings = effect_settings(addition, per_parameter=len(addition.parameters), joint=0) if alternatives else effect_settings(addition)
+    settings = (effect_settings(addition, per_parameter=len(addition.parameters), joint=0, from_record=from_record) if alternatives
+                else effect_settings(addition, from_record=from_record))
     for values in settings:
         series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values}, addition)
         if series is not None:
@@ -876,7 +901,8 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         features = dict(effect.signature(data))
         cand.addition = addition
         alternatives = bool(getattr(effect, "alternatives", False))
-        cand.responses = effect_responses(ctx, addition, alternatives) if addition is not None else []
+        cand.responses = (effect_responses(ctx, addition, alternatives, record_settings(ctx, effect, data))
+                          if addition is not None else [])
         responses = [change for _, change in cand.responses]
         moved = [moves_switches(ctx, data, change) for change in responses]
         best_target_share = best_envelope_share = -math.inf

@@ -208,6 +208,98 @@ class Cycling(_SwitchEffect):
         return out
 
 
+    def settings_from_record(self, data, measured):
+        """The minimum off and run times and the switch-off temperature where the measured record
+        shows them and the simulation does not: stops that outlast the command (the compressor
+        stays off although asked to run: a minimum off time, their measured lengths clustered
+        at it), runs that outlast it (a minimum run time), stops while the command still asks (a
+        thermostat: the measured water temperature at them). Each needs at least ``_AT_LEAST``
+        such events, at most half as many in the simulation, and a duration its events agree on
+        (a slow power meter also holds the measured power after the command, by a spread of
+        times); a record whose compressor follows its command suggests nothing."""
+        record, model = _switch_events(data, measured), _switch_events(data, data)
+        if record is None:
+            return []
+        dt = data.sample_interval
+        out = {}
+        for name, key in (("tCycMinOff", "held_off"), ("tCycMinRun", "held_on")):
+            lengths = record[key]
+            if len(lengths) < _AT_LEAST or (model is not None and len(model[key]) > len(lengths) / 2):
+                continue
+            q25, median, q75 = np.percentile(lengths, [25, 50, 75])
+            if q75 - q25 <= max(2 * dt, 0.05 * median):
+                out[name] = float(median)
+        stops = record["stop_temperatures"]
+        if len(stops) >= _AT_LEAST and not (model is not None and len(model["stop_temperatures"]) > len(stops) / 2):
+            out["TCycOff"] = float(np.nanmedian(stops))
+        return [out] if out else []
+
+
+def _switch_events(data, view) -> dict[str, list[float]] | None:
+    """The compressor's switches in ``view`` (the simulated or the measured targets) against the
+    command (``data``'s compressor role): the lengths (s) of stops and of runs that outlast the
+    command by more than a minute, and the water temperature at stops while the command asks
+    on. None without a command, a power or an off state."""
+    command = data.role("compressor")
+    power = view.role("power")
+    if command is None or power is None or len(power) != len(data.time):
+        return None
+    asked = np.asarray(command, dtype=float) > 0.05
+    running = _running_from_power(np.asarray(power, dtype=float))
+    if running is None:
+        return None
+    dt = data.sample_interval
+    hold = max(2, int(math.ceil(60.0 / dt)))  # a minute: the command's own switch is not a hold
+    segment = np.asarray(data.segment)
+    temperatures = view.temperature_targets
+    water = np.asarray(view.simulated[temperatures[0]], dtype=float) if temperatures else None
+    out = {"held_off": [], "held_on": [], "stop_temperatures": []}
+    for state, key in ((False, "held_off"), (True, "held_on")):
+        for start, n in _runs(running == state, segment):
+            # the command itself went this way during the run, and turned back at least a
+            # minute before the measured state did
+            other = asked[start : start + n] if not state else ~asked[start : start + n]
+            if n > hold + 1 and not other.all() and other[n - hold - 1 :].all():
+                out[key].append(n * dt)
+            if not state and water is not None and asked[start - 1] and asked[start : start + hold].all():
+                out["stop_temperatures"].append(float(np.nanmax(water[max(start - 3, 0) : start])))
+    return out
+
+
+_AT_LEAST = 3
+"""Events a setting read from the record needs: one or two stops may have any cause."""
+
+
+def _runs(mask: np.ndarray, segment: np.ndarray) -> list[tuple[int, int]]:
+    """(first index, length) of each run of True inside one segment that neither touches a
+    segment's edge (its true length is unknown) nor the record's."""
+    out = []
+    m = np.concatenate([[False], mask, [False]]).astype(int)
+    starts = np.flatnonzero(np.diff(m) == 1)
+    ends = np.flatnonzero(np.diff(m) == -1)
+    for a, b in zip(starts, ends):
+        if a == 0 or b >= len(mask) or segment[a - 1] != segment[a] or segment[b] != segment[b - 1]:
+            continue
+        out.append((int(a), int(b - a)))
+    return out
+
+
+def _running_from_power(power: np.ndarray) -> np.ndarray | None:
+    """Running (True) or off from a measured power: a running median of five samples keeps sensor
+    noise from flickering the state; off below 15 % of the span between the 2nd and the 95th
+    percentile. None where the power has no off state (a modulating unit)."""
+    finite = np.isfinite(power)
+    if finite.sum() < 10:
+        return None
+    padded = np.pad(np.where(finite, power, np.nanmedian(power)), 2, mode="edge")
+    smooth = np.median(np.lib.stride_tricks.sliding_window_view(padded, 5), axis=1)
+    low, high = np.percentile(smooth, 2), np.percentile(smooth, 95)
+    if not high > low:
+        return None
+    running = smooth > low + 0.15 * (high - low)
+    return running if running.any() and not running.all() else None
+
+
 class Defrost(_SwitchEffect):
     name = "defrost"
     description = "reverse-cycle defrost of the outdoor coil in cold, humid air"
