@@ -447,3 +447,32 @@ def test_screening_settings_take_the_records_suggestion_clipped_to_its_range():
     suggested = effect_settings(addition, from_record=[{"tCycMinOff": 900.0, "unknown": 1.0}, {"TCycOff": 400.0}])
     assert suggested[: len(plain)] == plain
     assert suggested[len(plain):] == [{"TCycOff": 318.15, "tCycMinOff": 900.0}, {"TCycOff": 328.15, "tCycMinOff": 600.0}]
+
+
+def _thermostat_record(command: np.ndarray, stop_power: float, dt: float = 10.0, t_off: float = 312.0, hysteresis: float = 3.0):
+    """Water heated while running and cooling while off; the unit stops at ``t_off`` although
+    commanded on and restarts ``hysteresis`` below, drawing ``stop_power`` while stopped. It
+    turns down to 400 W over the last 0.6 K before a stop (a modulating unit)."""
+    water, power, T, stopped = [], [], 306.0, False
+    for asked in command > 0.05:
+        stopped = (stopped and T > t_off - hysteresis) or (not stopped and T >= t_off)
+        running = asked and not stopped
+        T += dt * (2.0e-3 if running else -1.0e-3)
+        water.append(T)
+        power.append((400.0 if T > t_off - 0.6 else 1500.0) if running else (stop_power if asked else 40.0))
+    return np.array(water), np.array(power)
+
+
+def test_the_record_suggests_a_switch_off_temperature_only_where_the_unit_stops_not_where_it_dips():
+    from plugins.effects import Cycling
+
+    command = _commanded_cycles(hours=40.0, on_s=6000.0, off_s=1500.0)
+    rng = np.random.default_rng(3)
+    simulated = _switching_view(command, np.where(command > 0.05, 1500.0, 40.0), np.full(len(command), 308.0))
+    water, power = _thermostat_record(command, stop_power=40.0)
+    (setting,) = Cycling().settings_from_record(simulated, _switching_view(command, power + rng.normal(0, 20, len(power)), water))
+    assert setting["TCycOff"] == pytest.approx(312.0, abs=0.05)
+    # a modulating unit turning further down at the same moments, below the running threshold
+    # (15 % of the power's span) but nearer its lowest running power than off, has not stopped
+    water, power = _thermostat_record(command, stop_power=240.0)
+    assert Cycling().settings_from_record(simulated, _switching_view(command, power + rng.normal(0, 5, len(power)), water)) == []

@@ -253,17 +253,33 @@ def _switch_events(data, view) -> dict[str, list[float]] | None:
     segment = np.asarray(data.segment)
     temperatures = view.temperature_targets
     water = np.asarray(view.simulated[temperatures[0]], dtype=float) if temperatures else None
+    watts = np.asarray(power, dtype=float)
+    # a thermostat's stop is off, not a modulating unit's low-power dip below the running
+    # threshold: its power lies nearer the commanded-off level (the lowest readings where the
+    # command never stops) than the lowest running one, for five minutes at least
+    idle = watts[~asked] if np.isfinite(watts[~asked]).sum() >= 10 else watts
+    off_level = np.nanmedian(idle) if idle is not watts else np.nanpercentile(watts, 2)
+    lowest_run = np.nanpercentile(watts[asked & running], 5) if (asked & running).any() else np.nan
     out = {"held_off": [], "held_on": [], "stop_temperatures": []}
     for state, key in ((False, "held_off"), (True, "held_on")):
         for start, n in _runs(running == state, segment):
+            within = slice(start, start + n)
+            off_while_asked = not state and asked[within].any() and (
+                np.nanmedian(watts[within][asked[within]]) < 0.5 * (off_level + lowest_run))
             # the command itself went this way during the run, and turned back at least a
             # minute before the measured state did
-            other = asked[start : start + n] if not state else ~asked[start : start + n]
-            if n > hold + 1 and not other.all() and other[n - hold - 1 :].all():
+            other = asked[within] if not state else ~asked[within]
+            if n > hold + 1 and not other.all() and other[n - hold - 1 :].all() and (state or off_while_asked):
                 out[key].append(n * dt)
-            if not state and water is not None and asked[start - 1] and asked[start : start + hold].all():
+            if (not state and water is not None and asked[start - 1] and asked[start : start + hold].all()
+                    and n * dt >= _THERMOSTAT_STOP and off_while_asked):
                 out["stop_temperatures"].append(float(np.nanmax(water[max(start - 3, 0) : start])))
     return out
+
+
+_THERMOSTAT_STOP = 300.0
+"""Seconds a stop while the command asks must last to be read as a thermostat's (shorter ones are
+a modulating unit's dips, or a meter's noise)."""
 
 
 _AT_LEAST = 3
