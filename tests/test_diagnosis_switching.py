@@ -476,3 +476,18 @@ def test_the_record_suggests_a_switch_off_temperature_only_where_the_unit_stops_
     # (15 % of the power's span) but nearer its lowest running power than off, has not stopped
     water, power = _thermostat_record(command, stop_power=240.0)
     assert Cycling().settings_from_record(simulated, _switching_view(command, power + rng.normal(0, 5, len(power)), water)) == []
+
+
+def test_a_parameter_read_from_the_record_is_searched_near_the_reading():
+    from simgap.diagnosis.ranking import read_parameters
+    from simgap.diagnosis.shrink import read_window
+    from simgap.interfaces import EffectParameter
+
+    addition = EffectAddition(switch={"useCycling": 1.0}, parameters=(
+        EffectParameter("TCycOff", 318.15, 303.15, 328.15, "K"), EffectParameter("tCycMinOff", 600.0, 60.0, 3600.0, "s", "log")))
+    read = read_parameters(addition, [{"tCycMinOff": 900.0, "unknown": 1.0}, {"tCycMinOff": 1200.0, "TCycOff": 400.0}])
+    assert read == {"tCycMinOff": 900.0, "TCycOff": 328.15}
+    lo, hi = read_window(900.0, 60.0, 3600.0, log=True)
+    assert lo < 900.0 < hi and hi / 900.0 == pytest.approx(900.0 / lo) and 1.3 < hi / 900.0 < 1.6
+    assert read_window(328.15, 303.15, 328.15, log=False) == pytest.approx((325.65, 328.15))
+    assert read_parameters(None, [{"tCycMinOff": 900.0}]) == {}

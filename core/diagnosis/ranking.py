@@ -127,6 +127,9 @@ class Candidate:
     fitted: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     """Per target, the part of the residual the effect's features reproduce."""
     responses: list[tuple[dict[str, float], dict[str, np.ndarray]]] = field(default_factory=list, repr=False)
+    from_record: dict[str, float] = field(default_factory=dict)
+    """Effect parameters the measured record gave (:meth:`simgap.Effect.settings_from_record`),
+    within their ranges: screened, and searched near them when recalibrated."""
     moved_switches: bool = False
     """Some screened setting of the effect moves the unit's switching (it was tested on envelopes)."""
     envelope: dict[str, dict] = field(default_factory=dict)
@@ -276,6 +279,7 @@ class Candidate:
             "share": self.share,
             "raw_share": self.raw_share,
             "as_simulated": self.as_simulated,
+            "from_record": self.from_record,
             "p_value": self.p_value,
             "significant": self.significant,
             "gap_shrink": self.gap_shrink,
@@ -568,6 +572,20 @@ JOINT_SETTINGS = 4
 """Settings that move every parameter of a multi-parameter effect at once (a space-filling
 design): a thermostat threshold that the typical value never reaches only acts together with
 its hysteresis and minimum times, which one-at-a-time settings never combine."""
+
+
+def read_parameters(addition: EffectAddition | None, from_record: list | tuple) -> dict[str, float]:
+    """The effect parameters ``from_record`` (settings the record suggests) gives, clipped to
+    their ranges; where several settings give one, the first."""
+    if addition is None:
+        return {}
+    bounds = {p.name: (p.lower, p.upper) for p in addition.parameters}
+    out: dict[str, float] = {}
+    for setting in from_record:
+        for k, v in dict(setting).items():
+            if k in bounds and k not in out and v is not None and math.isfinite(float(v)):
+                out[k] = float(min(max(float(v), bounds[k][0]), bounds[k][1]))
+    return out
 
 
 def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int = JOINT_SETTINGS,
@@ -901,8 +919,9 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         features = dict(effect.signature(data))
         cand.addition = addition
         alternatives = bool(getattr(effect, "alternatives", False))
-        cand.responses = (effect_responses(ctx, addition, alternatives, record_settings(ctx, effect, data))
-                          if addition is not None else [])
+        suggested = record_settings(ctx, effect, data) if addition is not None else []
+        cand.from_record = read_parameters(addition, suggested)
+        cand.responses = effect_responses(ctx, addition, alternatives, suggested) if addition is not None else []
         responses = [change for _, change in cand.responses]
         moved = [moves_switches(ctx, data, change) for change in responses]
         best_target_share = best_envelope_share = -math.inf

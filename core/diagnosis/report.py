@@ -564,6 +564,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
                 "Recalibrated with the original tuners (narrowed around the solution) and "
                 + ", ".join(f"{k} = {v:.4g}" for k, v in s["effect_parameters"].items())
                 + f" found; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
+                + (" Searched near what the measured record shows: "
+                   + ", ".join(f"{k} = {v:.4g}" for k, v in s["read_from_record"].items()) + "."
+                   if s.get("read_from_record") else "")
                 + (" **Every effect parameter sits at a bound of its range**: the effect needs more than its range "
                    "allows, or stands in for another." if s.get("effect_at_bounds") else "")
             )

@@ -470,7 +470,8 @@ def _added_on_top(ctx, base: Candidate, base_result: dict, added: Candidate, res
     # judged against the base alone and against the joint solution with the added effect at its
     # weak end: the joint search re-tunes too, and what that alone gains is not the effect's
     result = recalibrate(ctx, name, both, folder / "recalibration" / name, recalibration_weights(added),
-                         control=base_result, start=start, ablate=False, ablate_only=tuple(added.addition.parameters))
+                         control=base_result, start=start, ablate=False, ablate_only=tuple(added.addition.parameters),
+                         read=base.from_record)  # the added effect starts at its weak end, outside any reading's window
     result["on_top_of"] = base.name
     added_result = next((r for r in results if r.get("effect") == added.name), {})
     on_training = added_result.get("confirmed_on") == "training"
@@ -755,8 +756,11 @@ def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Pa
                     + ", ".join(f"{k} = {v:.4g}" for k, v in ctx.found_before[cand.name].items()))
             start = chosen
         reweigh = (lambda found, cand=cand, weights=weights: reading_error_weights(ctx, cand, weights, found)) if cand.reading_error else None
+        if cand.from_record:
+            say(f"  searching {cand.name} near what the record shows: "
+                + ", ".join(f"{k} = {v:.4g}" for k, v in cand.from_record.items()))
         result = recalibrate(ctx, cand.name, cand.addition, folder / "recalibration" / cand.name, weights, control=control,
-                             start=start, reweigh=reweigh)
+                             start=start, reweigh=reweigh, read=cand.from_record)
         if "gap_shrink" in result:
             cand.gap_shrink = float(result["gap_shrink"])
             cand.at_bounds = effect_parameters_at_bounds(cand.addition, result.get("effect_parameters") or {})

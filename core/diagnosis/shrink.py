@@ -83,9 +83,29 @@ def search_window(value: float, p) -> tuple[float, float]:
     return max(p.min, value - width), min(p.max, value + width)
 
 
-def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path, start: dict[str, float] | None = None) -> Path:
-    """The recalibration's workflow; ``start`` (any tuner or effect parameter) seeds it."""
-    start = start or {}
+READ_WINDOW = 0.1
+"""An effect parameter the measured record gave (:meth:`simgap.Effect.settings_from_record`) is
+searched this share of its range either side of the reading (in log where searched in log), not
+over its whole range: the reading is a measurement. Over its whole range the blind air cycling
+case 3807, whose record shows a 900-s minimum off time, ended its search at 60 s."""
+
+
+def read_window(value: float, lower: float, upper: float, log: bool) -> tuple[float, float]:
+    """The range an effect parameter read from the record at ``value`` is searched over."""
+    if log and lower > 0:
+        lo, hi, v = math.log(lower), math.log(upper), math.log(min(max(value, lower), upper))
+        width = READ_WINDOW * (hi - lo)
+        return math.exp(max(lo, v - width)), math.exp(min(hi, v + width))
+    v = min(max(value, lower), upper)
+    width = READ_WINDOW * (upper - lower)
+    return max(lower, v - width), min(upper, v + width)
+
+
+def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path, start: dict[str, float] | None = None,
+                     read: dict[str, float] | None = None) -> Path:
+    """The recalibration's workflow; ``start`` (any tuner or effect parameter) seeds it; ``read``
+    (effect parameters the record gave) narrows those to ``READ_WINDOW`` around the reading."""
+    start, read = start or {}, read or {}
     wf = ctx.prepared.wf
     data = copy.deepcopy(wf.doc.data)
     base = wf.base_dir
@@ -116,8 +136,12 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
         params.append(entry)
     for p in addition.parameters:
         seed = start.get(p.name, p.default)
-        entry = {"name": p.name, "min": p.lower, "max": p.upper, "start": min(max(seed, p.lower), p.upper), "scale": p.scale}
-        if p.scale == "log" and p.lower <= 0:
+        lower, upper = (read_window(read[p.name], p.lower, p.upper, p.scale == "log") if p.name in read
+                        else (p.lower, p.upper))
+        if p.name in read and not lower <= seed <= upper:
+            seed = read[p.name]
+        entry = {"name": p.name, "min": lower, "max": upper, "start": min(max(seed, lower), upper), "scale": p.scale}
+        if p.scale == "log" and lower <= 0:
             entry["scale"] = "linear"
         if p.unit:
             entry["unit"] = p.unit
@@ -185,8 +209,12 @@ def recalibrate(
     ablate: bool = True,
     ablate_only: tuple = (),
     reweigh=None,
+    read: dict[str, float] | None = None,
 ) -> dict:
     """Run the derived calibration; return before/after validation errors and the shrink.
+
+    ``read``: effect parameters the measured record gave, searched near the reading
+    (:func:`derived_workflow`).
 
     ``reweigh`` (effect parameters as found -> weights, or None): weights read from where the
     search put the effect's parameters (``out["weights"]``). The front member, and the
@@ -209,8 +237,10 @@ def recalibrate(
     out: dict = {"effect": effect, "before": before, "switch": dict(addition.switch)}
     if start:
         out["start"] = dict(start)
+    if read:
+        out["read_from_record"] = dict(read)
     try:
-        path = derived_workflow(ctx, effect, addition, folder, start)
+        path = derived_workflow(ctx, effect, addition, folder, start, read)
         prepared = prepare(path)
         run_dir = calibrate(prepared, workers=ctx.config.recalibrate.workers)
     except Exception as exc:  # a failed recalibration is a finding, not a crash of the report
