@@ -1783,6 +1783,65 @@ def thirty_seventh_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_eighth_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-eighth blind set (issue 14), written and committed before any of it ran: the
+    first blind run of the settings read from the measured record (a minimum off time, a
+    switch-off temperature) and their narrowed recalibration. Seeds 4001-4032; strengths,
+    seasons and noise levels chosen afresh; every effect of each model and every generic one,
+    with an air-source power meter reading 12 % high and a water-to-water supply thermometer
+    0.5 K high, a time constant of 300 s on the air-source power meter and of 900 s on the
+    water-to-water supply thermometer, a clock 15 minutes early on the air-source logger and
+    30 minutes late on the water-to-water one, an air-source **evaporator fan speed** logged
+    15 % low (an input never tried) and a water-to-water pyranometer 18 % high; six null cases
+    (pairs of tuners at bounds never tried together: the air-source `scaleHPQCon_nominal` upper
+    with `tauVolCon` lower, `mHC_flow_nominal` lower with `T_fixAmbTestHall` upper, the
+    water-to-water `dTGenSto` lower with `flowRatioSrcDem` upper; more noise; lost rows); three
+    pairs, one of them the air cycling beside a sensor lag (the record's reading beside another
+    effect)."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("autumn", "winter", "autumn", "winter")
+    t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 550.0}, seed=4001, seasons=mixed),
+        B(air, "heat_loss", strength={"UALossCon": 20.0, "UALossPipe": 25.0}, seed=4002, seasons=winter),
+        B(air, "sensor_lag", strength={"tauSensor": 320.0}, seed=4003, seasons=mixed),
+        B(air, "post_run", strength={"tPostRun": 650.0}, seed=4004, seasons=autumn),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.65, "PBackup": 3500.0}, seed=4005, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0, "tDefrost": 420.0, "fDefrostQ": 0.5}, seed=4006, seasons=mixed),
+        B(air, "cycling", strength={"TCycOff": 318.15, "dTCycHys": 5.0, "tCycMinRun": 800.0, "tCycMinOff": 1100.0}, seed=4007, seasons=winter),
+        B(air, "clock_shift", shift_s=-900.0, seed=4008, seasons=autumn),
+        B(air, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.12)}, seed=4009, seasons=mixed),
+        B(air, "sensor_time_constant", lag={"PEl_W": 300.0}, seed=4010, seasons=winter),
+        B(air, "input_gain_error", input_gain={"nSpeedFanEva_1_0": 0.85}, seed=4011, seasons=winter),
+        B(w2w, "heat_loss", strength={"UALossGen": 320.0}, seed=4012, seasons=winter),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1300.0}, seed=4013, seasons=autumn),
+        B(w2w, "post_run", strength={"tPostRun": 1500.0}, seed=4014, seasons=mixed),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 800.0}, seed=4015, seasons=winter),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 273.15, "PBackup": 4000.0}, seed=4016, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 2500.0, "tCycMinOff": 1800.0, "plrCycMin": 0.6}, seed=4017, seasons=mixed),
+        B(w2w, "clock_shift", shift_s=1800.0, seed=4018, seasons=winter),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.5, 1.0)}, seed=4019, seasons=autumn),
+        B(w2w, "sensor_time_constant", lag={"TSup_K": 900.0}, seed=4020, seasons=mixed),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 1.18}, seed=4021, seasons=winter),
+        # null cases
+        B(air, None, seed=4022, seasons=autumn, noise_scale=1.5),
+        B(air, None, seed=4023, truth={"scaleHPQCon_nominal": t_air["scaleHPQCon_nominal"].upper, "tauVolCon": t_air["tauVolCon"].lower}),
+        B(air, None, seed=4024, seasons=mixed, truth={"mHC_flow_nominal": t_air["mHC_flow_nominal"].lower,
+                                                     "T_fixAmbTestHall": t_air["T_fixAmbTestHall"].upper}),
+        B(w2w, None, seed=4025, seasons=winter, noise_scale=1.3, missing_fraction=0.03),
+        B(w2w, None, seed=4026, truth={"dTGenSto": t_w2w["dTGenSto"].lower, "flowRatioSrcDem": t_w2w["flowRatioSrcDem"].upper}),
+        B(w2w, None, seed=4027, seasons=mixed),
+        # two effects at once
+        B(air, "cycling", also=("sensor_lag",), seed=4030, seasons=winter),
+        B(w2w, "backup_heater", also=("post_run",), seed=4031, seasons=mixed),
+        B(air, "defrost", seed=4032, seasons=winter, shift_s=900.0),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1815,6 +1874,7 @@ BLIND_SETS = {
     "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases, "thirty_third": thirty_third_cases,
     "thirty_fourth": thirty_fourth_cases, "thirty_fifth": thirty_fifth_cases,
     "thirty_sixth": thirty_sixth_cases, "thirty_seventh": thirty_seventh_cases,
+    "thirty_eighth": thirty_eighth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
