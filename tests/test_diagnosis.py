@@ -826,7 +826,7 @@ def test_the_reverse_on_top_test_starts_where_the_forward_one_ended(monkeypatch,
 
     ablated = {}
 
-    def fake_recalibrate(ctx, name, addition, folder, weights, control=None, start=None, ablate=True, ablate_only=()):
+    def fake_recalibrate(ctx, name, addition, folder, weights, control=None, start=None, ablate=True, ablate_only=(), read=None):
         starts[name] = dict(start)
         ablated[name] = [p.name for p in ablate_only]
         joint = {"scale": 0.91, "tPostRun": 556.0, "gain": 0.97}
