@@ -441,5 +441,7 @@ class Effect(ABC):
         same view with the measured targets in place of the simulated ones (its roles read from
         them: the measured power). Never a signature: a feature built from a measured target
         would explain any residual of it. A parameter left out keeps its typical value; values
-        are clipped to the parameter's range. Default: none."""
+        are clipped to the parameter's range. A parameter given here is a reading, not a guess:
+        when the effect is recalibrated it is searched only near it (a tenth of its range either
+        side), so return one only where the record shows it plainly. Default: none."""
         return []
