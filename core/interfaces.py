@@ -352,6 +352,28 @@ class DiagnosisData:
     def temperature_targets(self) -> list[str]:
         return [t for t, u in self.units.items() if u == "K"]
 
+    @staticmethod
+    def running_from_power(power: np.ndarray) -> np.ndarray | None:
+        """Running (True) or off from an electric power series, read as the diagnosis counts a
+        record's starts: a running median of five samples against the meter's flicker, off below
+        15 % of the span above the standby power (pump-only power counts as off). None where the
+        series never stops or never runs."""
+        from .diagnosis.context import measured_running
+
+        power = np.asarray(power, dtype=float)
+        if np.isfinite(power).sum() < 10:
+            return None
+        running = measured_running(power)
+        return running if running.any() and not running.all() else None
+
+    @staticmethod
+    def standby_power(power: np.ndarray) -> float:
+        """The power of the stopped unit (pumps, controls): the median of the samples at most
+        10 % of the 95th percentile; 0 where there are none."""
+        from .diagnosis.context import standby_level
+
+        return standby_level(power)
+
     def since_change(self, state: np.ndarray, rising: bool) -> np.ndarray:
         """Seconds since the last switch on (``rising``) or off of a 0/1 ``state``, restarting
         at each segment (``inf`` before the first switch of a segment)."""

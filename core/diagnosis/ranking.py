@@ -574,17 +574,20 @@ design): a thermostat threshold that the typical value never reaches only acts t
 its hysteresis and minimum times, which one-at-a-time settings never combine."""
 
 
+def _within_ranges(addition: EffectAddition, setting) -> dict[str, float]:
+    """The values of ``setting`` (one the record suggests) that name a parameter of the
+    addition and are finite, each clipped to that parameter's range."""
+    bounds = {p.name: (p.lower, p.upper) for p in addition.parameters}
+    return {k: float(min(max(float(v), bounds[k][0]), bounds[k][1])) for k, v in dict(setting).items()
+            if k in bounds and v is not None and math.isfinite(float(v))}
+
+
 def read_parameters(addition: EffectAddition | None, from_record: list | tuple) -> dict[str, float]:
     """The effect parameters ``from_record`` (settings the record suggests) gives, clipped to
     their ranges; where several settings give one, the first."""
-    if addition is None:
-        return {}
-    bounds = {p.name: (p.lower, p.upper) for p in addition.parameters}
     out: dict[str, float] = {}
-    for setting in from_record:
-        for k, v in dict(setting).items():
-            if k in bounds and k not in out and v is not None and math.isfinite(float(v)):
-                out[k] = float(min(max(float(v), bounds[k][0]), bounds[k][1]))
+    for setting in from_record if addition is not None else ():
+        out = {**_within_ranges(addition, setting), **out}
     return out
 
 
@@ -599,11 +602,9 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int
     parameters they leave out typical, each value clipped to its range."""
     typical = {p.name: p.default for p in addition.parameters}
     settings = [typical]
-    bounds = {p.name: (p.lower, p.upper) for p in addition.parameters}
     suggested = []
     for setting in from_record:
-        values = {k: float(min(max(float(v), bounds[k][0]), bounds[k][1])) for k, v in dict(setting).items()
-                  if k in bounds and v is not None and math.isfinite(float(v))}
+        values = _within_ranges(addition, setting)
         if values and {**typical, **values} not in suggested:
             suggested.append({**typical, **values})
     for p in addition.parameters[:per_parameter]:

@@ -245,7 +245,7 @@ def _switch_events(data, view) -> dict[str, list[float]] | None:
     if command is None or power is None or len(power) != len(data.time):
         return None
     asked = np.asarray(command, dtype=float) > 0.05
-    running = _running_from_power(np.asarray(power, dtype=float))
+    running = data.running_from_power(power)
     if running is None:
         return None
     dt = data.sample_interval
@@ -255,10 +255,9 @@ def _switch_events(data, view) -> dict[str, list[float]] | None:
     water = np.asarray(view.simulated[temperatures[0]], dtype=float) if temperatures else None
     watts = np.asarray(power, dtype=float)
     # a thermostat's stop is off, not a modulating unit's low-power dip below the running
-    # threshold: its power lies nearer the commanded-off level (the lowest readings where the
-    # command never stops) than the lowest running one, for five minutes at least
-    idle = watts[~asked] if np.isfinite(watts[~asked]).sum() >= 10 else watts
-    off_level = np.nanmedian(idle) if idle is not watts else np.nanpercentile(watts, 2)
+    # threshold: its power lies nearer the standby power than the lowest running one, for five
+    # minutes at least
+    off_level = data.standby_power(watts)
     lowest_run = np.nanpercentile(watts[asked & running], 5) if (asked & running).any() else np.nan
     out = {"held_off": [], "held_on": [], "stop_temperatures": []}
     for state, key in ((False, "held_off"), (True, "held_on")):
@@ -298,22 +297,6 @@ def _runs(mask: np.ndarray, segment: np.ndarray) -> list[tuple[int, int]]:
             continue
         out.append((int(a), int(b - a)))
     return out
-
-
-def _running_from_power(power: np.ndarray) -> np.ndarray | None:
-    """Running (True) or off from a measured power: a running median of five samples keeps sensor
-    noise from flickering the state; off below 15 % of the span between the 2nd and the 95th
-    percentile. None where the power has no off state (a modulating unit)."""
-    finite = np.isfinite(power)
-    if finite.sum() < 10:
-        return None
-    padded = np.pad(np.where(finite, power, np.nanmedian(power)), 2, mode="edge")
-    smooth = np.median(np.lib.stride_tricks.sliding_window_view(padded, 5), axis=1)
-    low, high = np.percentile(smooth, 2), np.percentile(smooth, 95)
-    if not high > low:
-        return None
-    running = smooth > low + 0.15 * (high - low)
-    return running if running.any() and not running.all() else None
 
 
 class Defrost(_SwitchEffect):
