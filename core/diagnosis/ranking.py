@@ -664,8 +664,8 @@ def record_settings(ctx: Context, effect, data) -> list:
     """The settings ``effect`` reads from the measured record (:meth:`simgap.Effect.settings_from_record`);
     none where it fails: a suggestion is a help to the search, never a reason to stop."""
     suggest = getattr(effect, "settings_from_record", None)
-    if suggest is None:
-        return []
+    if suggest is None or getattr(type(effect), "settings_from_record", None) is Effect.settings_from_record:
+        return []  # the default suggests nothing: the measured view is not worth building
     try:
         return list(suggest(data, ctx.data(simulated=ctx.joined("measured"))) or [])
     except Exception:  # a plugin's suggestion that fails leaves the screening as it was
