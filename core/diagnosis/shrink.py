@@ -71,16 +71,21 @@ def pinned(value: float, p) -> bool:
     return any(bounds_reached(value, p.min, p.max, p.scale == "log"))
 
 
+def _window(value: float, lower: float, upper: float, log: bool, share: float) -> tuple[float, float]:
+    """``share`` of the range [lower, upper] either side of ``value`` (in log where ``log``),
+    within the range."""
+    if log:
+        lo, hi, v = math.log(lower), math.log(upper), math.log(value)
+        width = share * (hi - lo)
+        return math.exp(max(lo, v - width)), math.exp(min(hi, v + width))
+    width = share * (upper - lower)
+    return max(lower, value - width), min(upper, value + width)
+
+
 def search_window(value: float, p) -> tuple[float, float]:
     """A recalibration's range for a tuner started at ``value``: ``NARROW`` of its range either
     side (in log where it is searched in log), within its own bounds."""
-    if p.scale == "log":
-        lo, hi = math.log(p.min), math.log(p.max)
-        width = NARROW * (hi - lo)
-        v = math.log(value)
-        return math.exp(max(lo, v - width)), math.exp(min(hi, v + width))
-    width = NARROW * (p.max - p.min)
-    return max(p.min, value - width), min(p.max, value + width)
+    return _window(value, p.min, p.max, p.scale == "log", NARROW)
 
 
 READ_WINDOW = 0.1
@@ -92,13 +97,7 @@ case 3807, whose record shows a 900-s minimum off time, ended its search at 60 s
 
 def read_window(value: float, lower: float, upper: float, log: bool) -> tuple[float, float]:
     """The range an effect parameter read from the record at ``value`` is searched over."""
-    if log and lower > 0:
-        lo, hi, v = math.log(lower), math.log(upper), math.log(min(max(value, lower), upper))
-        width = READ_WINDOW * (hi - lo)
-        return math.exp(max(lo, v - width)), math.exp(min(hi, v + width))
-    v = min(max(value, lower), upper)
-    width = READ_WINDOW * (upper - lower)
-    return max(lower, v - width), min(upper, v + width)
+    return _window(min(max(value, lower), upper), lower, upper, log and lower > 0, READ_WINDOW)
 
 
 def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path, start: dict[str, float] | None = None,
