@@ -1842,6 +1842,67 @@ def thirty_eighth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def thirty_ninth_cases(models: list[str]) -> list[BlindCase]:
+    """A thirty-ninth blind set (issue 14), written and committed before any of it ran: a
+    second blind run of the settings read from the measured record, heavier on pairs. Seeds
+    4101-4135; strengths, seasons and noise levels chosen afresh; every effect of each model
+    and every generic one, with an air-source flow thermometer reading 0.3 K high and a
+    water-to-water power meter 10 % high, a time constant of 400 s on the air-source flow
+    thermometer and of 700 s on the water-to-water power meter, a clock 20 minutes late on the
+    air-source logger and 25 minutes early on the water-to-water one, an air-source heating flow
+    meter logged 10 % high and a water-to-water pyranometer 25 % high; the air cycling in autumn
+    (part load, where it cycles); six null cases (pairs of tuners at bounds never tried
+    together: the air-source `fQWarm` upper with `fPWarm` lower, `mCon_flow_nominal` lower with
+    `lambdaIns` upper, the water-to-water `TZoneSet_K` upper with `dTCtrlBand` lower and
+    `dTCutInOut` upper with `tankHD` upper; more noise; lost rows); six pairs (three per model)
+    where earlier sets held three."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    winter = ("winter", "winter", "winter", "winter")
+    autumn = ("autumn", "autumn", "autumn", "autumn")
+    mixed = ("autumn", "winter", "autumn", "winter")
+    t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 380.0}, seed=4101, seasons=autumn),
+        B(air, "heat_loss", strength={"UALossCon": 35.0, "UALossPipe": 15.0}, seed=4102, seasons=mixed),
+        B(air, "sensor_lag", strength={"tauSensor": 150.0}, seed=4103, seasons=winter),
+        B(air, "post_run", strength={"tPostRun": 450.0}, seed=4104, seasons=mixed),
+        B(air, "backup_heater", strength={"TOdaBackup": 276.15, "PBackup": 3000.0}, seed=4105, seasons=winter),
+        B(air, "defrost", strength={"tDefrostInterval": 4200.0, "tDefrost": 360.0, "fDefrostQ": 0.55}, seed=4106, seasons=winter),
+        B(air, "cycling", strength={"TCycOff": 311.15, "dTCycHys": 4.0, "tCycMinRun": 900.0, "tCycMinOff": 1300.0}, seed=4107, seasons=autumn),
+        B(air, "clock_shift", shift_s=1200.0, seed=4108, seasons=mixed),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.3, 1.0)}, seed=4109, seasons=autumn),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 400.0}, seed=4110, seasons=mixed),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.1}, seed=4111, seasons=autumn),
+        B(w2w, "heat_loss", strength={"UALossGen": 250.0}, seed=4112, seasons=mixed),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1600.0}, seed=4113, seasons=winter),
+        B(w2w, "post_run", strength={"tPostRun": 1000.0}, seed=4114, seasons=winter),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 850.0}, seed=4115, seasons=mixed),
+        B(w2w, "backup_heater", strength={"TOdaBackup": 275.15, "PBackup": 6000.0}, seed=4116, seasons=winter),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 2200.0, "plrCycMin": 0.45}, seed=4117, seasons=autumn),
+        B(w2w, "clock_shift", shift_s=-1500.0, seed=4118, seasons=mixed),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.1)}, seed=4119, seasons=winter),
+        B(w2w, "sensor_time_constant", lag={"PEl_W": 700.0}, seed=4120, seasons=autumn),
+        B(w2w, "input_gain_error", input_gain={"HGloHor_W_m2": 1.25}, seed=4121, seasons=winter),
+        # null cases
+        B(air, None, seed=4122, seasons=winter, noise_scale=1.4),
+        B(air, None, seed=4123, seasons=autumn, truth={"fQWarm": t_air["fQWarm"].upper, "fPWarm": t_air["fPWarm"].lower}),
+        B(air, None, seed=4124, seasons=mixed, truth={"mCon_flow_nominal": t_air["mCon_flow_nominal"].lower,
+                                                     "lambdaIns": t_air["lambdaIns"].upper}),
+        B(w2w, None, seed=4125, seasons=autumn, noise_scale=1.2, missing_fraction=0.04),
+        B(w2w, None, seed=4126, truth={"TZoneSet_K": t_w2w["TZoneSet_K"].upper, "dTCtrlBand": t_w2w["dTCtrlBand"].lower}),
+        B(w2w, None, seed=4127, seasons=winter, truth={"dTCutInOut": t_w2w["dTCutInOut"].upper, "tankHD": t_w2w["tankHD"].upper}),
+        # two effects at once
+        B(air, "cycling", also=("heat_loss",), seed=4130, seasons=autumn),
+        B(air, "start_up_lag", also=("post_run",), seed=4131, seasons=mixed),
+        B(air, "defrost", also=("sensor_lag",), seed=4132, seasons=winter),
+        B(w2w, "cycling", also=("post_run",), seed=4133, seasons=autumn),
+        B(w2w, "backup_heater", also=("sensor_lag",), seed=4134, seasons=winter),
+        B(w2w, "heat_loss", also=("start_up_lag",), seed=4135, seasons=mixed),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1874,7 +1935,7 @@ BLIND_SETS = {
     "thirty_first": thirty_first_cases, "thirty_second": thirty_second_cases, "thirty_third": thirty_third_cases,
     "thirty_fourth": thirty_fourth_cases, "thirty_fifth": thirty_fifth_cases,
     "thirty_sixth": thirty_sixth_cases, "thirty_seventh": thirty_seventh_cases,
-    "thirty_eighth": thirty_eighth_cases,
+    "thirty_eighth": thirty_eighth_cases, "thirty_ninth": thirty_ninth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
