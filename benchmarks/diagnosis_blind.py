@@ -1952,6 +1952,8 @@ def main() -> None:
     for name, make in BLIND_SETS.items():
         parser.add_argument(f"--{name.replace('_', '-')}", dest=name, action="store_true", help=f"the blind set of issue 14 fixed before any of it ran (see {make.__name__})")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
+    parser.add_argument("--recalibrate-generations", type=int,
+                        help="generations of the diagnosis's recalibrations (default: the case's own, as its base calibration's)")
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
                              "names them; each is moved to case_result.before.json) instead of calibrating anew: a paired comparison")
@@ -2028,7 +2030,8 @@ def main() -> None:
             results.append(json.loads(done.read_text()))
             continue
         try:
-            r = run_case(case, folder, candidates=args.candidates, workers=args.workers, optimiser=args.recalibrate_optimiser, reuse=reuse)
+            r = run_case(case, folder, candidates=args.candidates, workers=args.workers, optimiser=args.recalibrate_optimiser, reuse=reuse,
+                         generations=args.recalibrate_generations)
         except Exception as exc:  # one broken case must not lose the table
             r = {"case": case.label, "model": case.model, "effect": case.effect, "error": f"{type(exc).__name__}: {exc}",
                  "top1": False, "top3": False, "shrink": None, "closed": None, "claimed": [], "ranking": []}

@@ -333,9 +333,10 @@ def same_physics(effect: str | None) -> set[str]:
 
 
 def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2, optimiser: str | None = None,
-             reuse: Path | None = None) -> dict:
+             reuse: Path | None = None, generations: int | None = None) -> dict:
     """Write, calibrate and diagnose one case blind; score the diagnosis against the truth.
-    ``optimiser``: the recalibrations' (default: the diagnosis's own default). ``reuse``: the
+    ``optimiser``: the recalibrations' (default: the diagnosis's own default). ``generations``:
+    the recalibrations' (default: the case's own, as its base calibration). ``reuse``: the
     base calibration of an earlier run of this case, diagnosed again (into ``diagnosis_again``)
     instead of writing and calibrating the case anew — a paired comparison of two diagnoses."""
     import time
@@ -352,7 +353,7 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         run_dir = calibrate(prepare(workflow), workers=workers)
     t1 = time.perf_counter()
     overrides = {"iterations": len(case.withheld) if len(case.withheld) > 1 else 1,
-                 "recalibrate": {"candidates": candidates, "population": case.population, "generations": case.generations, "workers": workers}}
+                 "recalibrate": {"candidates": candidates, "population": case.population, "generations": generations or case.generations, "workers": workers}}
     if optimiser:
         overrides["recalibrate"]["optimiser"] = optimiser
     result = diagnose(run_dir, overrides=overrides, progress=None, output=Path(run_dir) / "diagnosis_again" if reuse is not None else None)
