@@ -12,6 +12,9 @@ run `simgap diagnose` without saying what was withheld, and score:
   the true model), known only because the truth is known.
 
 Null cases (nothing withheld) must claim nothing. Seeds, noise levels, strengths and seasons vary.
+Each case is diagnosed with the diagnosis's default rounds (``iterations``, 2), as a user runs it:
+a single-effect case that claims goes on to a second round, and the table lists every claim
+naming no withheld physics. (Sets up to 38 ran single-effect cases with one round only.)
 
     python benchmarks/diagnosis_blind.py                 # the full table (about 1 h on 2 cores)
     python benchmarks/diagnosis_blind.py --quick         # one case per effect and model + a null case each (about 9 min)
@@ -2187,7 +2190,26 @@ def table(results: list[dict]) -> str:
         n, right, same = (sum(v[k] for v in precision.values()) for k in range(3))
         silent = sum(not r["claimed"] for r in effects)
         rows.append(f"| **any** (and {silent} single-effect cases with no claim) | **{n}** | **{right}/{n} ({right / n:.0%})** | **{same}/{n} ({same / n:.0%})** |")
+    beside = [r for r in effects + several if r["claimed"]]
+    if beside:
+        # every claim, in any round, that names none of the withheld physics: what a user reads
+        # beside a right first claim (a reading error claimed next to the effect, a round-2
+        # claim on a single-effect record)
+        wrong = {r["case"]: unwithheld_claims(r) for r in beside}
+        named = [f"{case}: {', '.join(w)}" for case, w in wrong.items() if w]
+        rows += ["", "| cases with a claim | of them with a claim naming no withheld physics (the first or a further one, any round) | which |", "|---|---|---|",
+                 f"| {len(beside)} | **{len(named)}** | {'; '.join(named) or '–'} |"]
     return "\n".join(rows)
+
+
+def unwithheld_claims(result: dict) -> list[str]:
+    """The claims of a case, in round 1 and along the chain, that name none of its withheld
+    effects' physics (for a null case: every claim)."""
+    from simgap.models.blind import same_physics
+
+    said = list(dict.fromkeys(list(result["claimed"]) + list(result.get("chain") or [])))
+    withheld = result.get("withheld") or ([result["effect"]] if result["effect"] else [])
+    return [c for c in said if not any(c in same_physics(w) for w in withheld)]
 
 
 def claim_precision(results: list[dict]) -> dict[str, tuple[int, int, int]]:

@@ -352,8 +352,11 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         workflow = write_case(case, folder)
         run_dir = calibrate(prepare(workflow), workers=workers)
     t1 = time.perf_counter()
-    overrides = {"iterations": len(case.withheld) if len(case.withheld) > 1 else 1,
-                 "recalibrate": {"candidates": candidates, "population": case.population, "generations": generations or case.generations, "workers": workers}}
+    # the rounds are the diagnosis's default, as a user runs it: a single-effect case goes on to
+    # round 2 once it claims, where a further claim would be a false one (until set 38 the bench
+    # gave the diagnosis as many rounds as effects were withheld, which hid such claims)
+    overrides = {"recalibrate": {"candidates": candidates, "population": case.population, "generations": generations or case.generations,
+                                 "workers": workers}}
     if optimiser:
         overrides["recalibrate"]["optimiser"] = optimiser
     result = diagnose(run_dir, overrides=overrides, progress=None, output=Path(run_dir) / "diagnosis_again" if reuse is not None else None)
