@@ -2165,7 +2165,7 @@ def table(results: list[dict]) -> str:
             # each withheld effect claimed under its own name or as the same physics (the
             # model's sensor lag and the lag around the simulator), in round 1 or in the chain
             def every_same(r: dict) -> bool:
-                found = set(r["claimed"]) | set(r.get("chain", []))
+                found = set(every_claim(r))
                 return all(found & same_physics(w) for w in r["withheld"])
 
             rows.append(f"| **all** | **several effects withheld, a generic effect of the same physics counted** (all claimed) | "
@@ -2202,14 +2202,18 @@ def table(results: list[dict]) -> str:
     return "\n".join(rows)
 
 
+def every_claim(result: dict) -> list[str]:
+    """The claims of a case in round 1 and along the chain (later rounds), each once, in order."""
+    return list(dict.fromkeys(list(result["claimed"]) + list(result.get("chain") or [])))
+
+
 def unwithheld_claims(result: dict) -> list[str]:
-    """The claims of a case, in round 1 and along the chain, that name none of its withheld
-    effects' physics (for a null case: every claim)."""
+    """The claims of a case, in any round, that name none of its withheld effects' physics (for
+    a null case: every claim)."""
     from simgap.models.blind import same_physics
 
-    said = list(dict.fromkeys(list(result["claimed"]) + list(result.get("chain") or [])))
     withheld = result.get("withheld") or ([result["effect"]] if result["effect"] else [])
-    return [c for c in said if not any(c in same_physics(w) for w in withheld)]
+    return [c for c in every_claim(result) if not any(c in same_physics(w) for w in withheld)]
 
 
 def claim_precision(results: list[dict]) -> dict[str, tuple[int, int, int]]:
