@@ -140,3 +140,21 @@ def test_the_hour_after_a_gap_in_the_record_is_a_regime_and_the_verdict_names_it
     # as much of the error as of the time: nothing to say
     assert gap_warning({"regimes": {"P": where["regimes"]["P"]}}) == ""
     assert said in verdict([], None, said)
+
+
+def test_a_recalibration_searching_more_tuners_gets_more_points_unless_a_budget_was_asked():
+    from simgap.diagnosis.context import Budget, DiagnoseConfig
+    from simgap.diagnosis.shrink import recalibration_evaluations
+
+    default = Budget()
+    # the control (the model's three tuners) keeps population x generations; an effect's
+    # recalibration over five tuners gets 32 points for each
+    assert recalibration_evaluations(default, 3) == 96
+    assert recalibration_evaluations(default, 5) == 160
+    asked = DiagnoseConfig.model_validate({"recalibrate": {"population": 8, "generations": 2}})
+    assert recalibration_evaluations(asked.recalibrate, 9) == 16
+    # a further round is diagnosed from the first round's settings dumped and read again
+    again = DiagnoseConfig.model_validate(asked.model_dump(exclude={"solution"}))
+    assert recalibration_evaluations(again.recalibrate, 9) == 16
+    both = Budget(population=8, generations=2, evaluations_per_tuner=10)
+    assert recalibration_evaluations(both, 9) == 90

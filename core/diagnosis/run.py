@@ -795,4 +795,5 @@ def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Pa
 
 def _budget(ctx) -> str:
     b = ctx.config.recalibrate
-    return f"{b.population} x {b.generations}" if b.optimiser == "nsga2" else f"{b.optimiser}, {b.population * b.generations} evaluations"
+    least = f"{b.population} x {b.generations}" if b.optimiser == "nsga2" else f"{b.optimiser}, {b.population * b.generations} evaluations"
+    return least + (f" or {b.evaluations_per_tuner} per tuner, whichever is more" if b.evaluations_per_tuner else "")

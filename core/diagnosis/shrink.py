@@ -95,6 +95,13 @@ over its whole range: the reading is a measurement. Over its whole range the bli
 case 3807, whose record shows a 900-s minimum off time, ended its search at 60 s."""
 
 
+def recalibration_evaluations(budget, tuners: int) -> int:
+    """Points a recalibration searching ``tuners`` tuners evaluates: population x generations,
+    or ``evaluations_per_tuner`` per tuner where that is more (the control, with the model's
+    tuners only, gets the same density of points, not the same count)."""
+    return max(budget.population * budget.generations, budget.evaluations_per_tuner * tuners)
+
+
 def read_window(value: float, lower: float, upper: float, log: bool) -> tuple[float, float]:
     """The range an effect parameter read from the record at ``value`` is searched over."""
     return _window(min(max(value, lower), upper), lower, upper, log and lower > 0, READ_WINDOW)
@@ -147,16 +154,17 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
         params.append(entry)
     data["parameters"] = params
     budget = ctx.config.recalibrate
+    evaluations = recalibration_evaluations(budget, len(params))
     if budget.optimiser == "nsga2":
         data["optimiser"] = {
             "plugin": "nsga2",
             "options": {"population": budget.population},
             "seed": wf.model.optimiser.seed,
-            "budget": {"generations": budget.generations},
+            "budget": {"generations": -(-evaluations // budget.population)},
         }
     else:
         data["optimiser"] = {"plugin": budget.optimiser, "seed": wf.model.optimiser.seed,
-                             "budget": {"evaluations": budget.population * budget.generations}}
+                             "budget": {"evaluations": evaluations}}
     data["output"] = str((folder / "runs").resolve())
     data["name"] = f"{(wf.model.name or 'run')}_plus_{effect}"[:60]
     data.pop("diagnose", None)

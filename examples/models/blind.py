@@ -355,8 +355,11 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     # the rounds are the diagnosis's default, as a user runs it: a single-effect case goes on to
     # round 2 once it claims, where a further claim would be a false one (until set 38 the bench
     # gave the diagnosis as many rounds as effects were withheld, which hid such claims)
-    overrides = {"recalibrate": {"candidates": candidates, "population": case.population, "generations": generations or case.generations,
-                                 "workers": workers}}
+    overrides = {"recalibrate": {"candidates": candidates, "workers": workers}}
+    if generations or (case.population, case.generations) != (BlindCase.population, BlindCase.generations):
+        # a budget asked for (a test's small one, a budget study's) is the budget; otherwise the
+        # diagnosis's own default, as a user runs it (with its floor per tuner searched)
+        overrides["recalibrate"].update(population=case.population, generations=generations or case.generations)
     if optimiser:
         overrides["recalibrate"]["optimiser"] = optimiser
     result = diagnose(run_dir, overrides=overrides, progress=None, output=Path(run_dir) / "diagnosis_again" if reuse is not None else None)
