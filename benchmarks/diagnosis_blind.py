@@ -1952,6 +1952,8 @@ def main() -> None:
     parser.add_argument("--candidates", type=int, default=3)
     parser.add_argument("--workers", type=int, default=2, help="dask workers of each calibration (1-2 on a shared machine)")
     parser.add_argument("--combinations", action="store_true", help="only the cases that withhold two effects at once")
+    parser.add_argument("--several", action="store_true",
+                        help="of the chosen set, only the cases that withhold several effects (with --only null: and its null cases)")
     for name, make in BLIND_SETS.items():
         parser.add_argument(f"--{name.replace('_', '-')}", dest=name, action="store_true", help=f"the blind set of issue 14 fixed before any of it ran (see {make.__name__})")
     parser.add_argument("--recalibrate-optimiser", help="optimiser plugin of the diagnosis's recalibrations (default: the diagnosis's own)")
@@ -1989,9 +1991,9 @@ def main() -> None:
     # several set flags: their cases one after the other (a paired comparison across sets)
     todo = (combination_cases(models) if args.combinations else [c for make in chosen for c in make(models)] if chosen
             else cases(models, args.quick))
-    if args.only:
-        wanted = set(args.only.split(","))
-        todo = [c for c in todo if (c.effect or "null") in wanted]
+    if args.only or args.several:
+        wanted = set(args.only.split(",")) if args.only else set()
+        todo = [c for c in todo if (c.effect or "null") in wanted or (args.several and len(c.withheld) >= 2)]
     if args.shard:
         k, n = (int(x) for x in args.shard.split("/"))
         todo = todo[k - 1 :: n]
