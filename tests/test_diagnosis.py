@@ -561,6 +561,10 @@ def test_cli_passes_the_second_pass_switch_and_the_config_takes_it(tmp_path, mon
         assert seen[-1].get("recalibrate", {}).get("second_pass") == expected, seen[-1]
     assert DiagnoseConfig().recalibrate.second_pass is True
     assert DiagnoseConfig(recalibrate={"second_pass": False}).recalibrate.second_pass is False
+    out = CliRunner().invoke(cli, ["diagnose", str(tmp_path), "--population", "8", "--per-tuner", "12"])
+    assert out.exit_code == 0, out.output
+    assert seen[-1]["recalibrate"] == {"population": 8, "evaluations_per_tuner": 12}, seen[-1]
+    assert DiagnoseConfig.model_validate(seen[-1]).recalibrate.evaluations_per_tuner == 12
 
 
 def test_null_case_claims_nothing_and_cli_errors(tmp_path):

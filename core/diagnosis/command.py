@@ -15,12 +15,14 @@ import click
 @click.option("--candidates", type=click.IntRange(min=0), help="how many top effects to recalibrate with (0: rank only)")
 @click.option("--generations", type=click.IntRange(min=1), help="generations of each recalibration")
 @click.option("--population", type=click.IntRange(min=4), help="population of each recalibration")
+@click.option("--per-tuner", "evaluations_per_tuner", type=click.IntRange(min=0),
+              help="evaluations each recalibration spends at least per tuner it searches (default 32; 0 once --population or --generations is given)")
 @click.option("--optimiser", help="optimiser plugin of the recalibrations (default gp_front; nsga2 takes --population)")
 @click.option("--workers", type=click.IntRange(min=1), help="local workers for the recalibrations")
 @click.option("--second-pass/--no-second-pass", default=None,
               help="when none of the recalibrated effects is confirmed, recalibrate the next ones once (default: on)")
 @click.option("--out", type=click.Path(path_type=Path), help="report folder (default: RUN_DIR/diagnosis)")
-def diagnose_command(run_dir, solution, workflow, effects, candidates, generations, population, optimiser, workers, second_pass, out):
+def diagnose_command(run_dir, solution, workflow, effects, candidates, generations, population, evaluations_per_tuner, optimiser, workers, second_pass, out):
     """Diagnose the gap left by a calibration: where it lies, which unmodelled effect most likely
     causes it, and how far it shrinks once that effect is added. Writes report.md, figures and
     diagnosis.json."""
@@ -31,7 +33,9 @@ def diagnose_command(run_dir, solution, workflow, effects, candidates, generatio
             solution = int(solution)
         except ValueError:
             raise click.BadParameter(f"expected 'knee' or an eval_id, got {solution!r}", param_hint="--solution") from None
-    recal = {k: v for k, v in (("candidates", candidates), ("generations", generations), ("population", population), ("optimiser", optimiser), ("workers", workers), ("second_pass", second_pass)) if v is not None}
+    asked = (("candidates", candidates), ("generations", generations), ("population", population),
+             ("evaluations_per_tuner", evaluations_per_tuner), ("optimiser", optimiser), ("workers", workers), ("second_pass", second_pass))
+    recal = {k: v for k, v in asked if v is not None}
     overrides = {}
     if effects:
         overrides["effects"] = [e.strip() for e in effects.split(",") if e.strip()]
