@@ -1972,16 +1972,21 @@ def main() -> None:
                         help="only measure how far each withheld model effect moves the noise-free record (blind.withheld_trace) "
                              "and each logged input's gain the model's prediction (blind.input_gain_trace) "
                              "for the set's cases with several effects (pairs) or every case (all); writes --out/traces.json")
+    parser.add_argument("--shortfall", action="store_true",
+                        help="only measure, for each finished case of the set whose withheld effects are all the model's, the lowest "
+                             "training error its searches reached against the true parameters' (blind.search_shortfall); "
+                             "writes --out/shortfall.json")
     args = parser.parse_args()
     if args.table:
         results = []
         for path in args.table:
             these = json.loads(path.read_text())
-            traces_file = path.parent / "traces.json"
-            traces = json.loads(traces_file.read_text()) if traces_file.is_file() else {}
-            for r in these:
-                if r["case"] in traces:
-                    r["trace"] = traces[r["case"]]
+            for name, key in (("traces.json", "trace"), ("shortfall.json", "shortfall")):
+                beside = path.parent / name
+                found = json.loads(beside.read_text()) if beside.is_file() else {}
+                for r in these:
+                    if r["case"] in found:
+                        r[key] = found[r["case"]]
             results += these
         print(table(results))
         return
@@ -2014,6 +2019,23 @@ def main() -> None:
                 traces[case.label]["input_gain_error"] = max(input_gain_trace(case, folder).values())
             print(f"{case.label:70s} " + ", ".join(f"{k} {v:.3g}" for k, v in traces[case.label].items()), flush=True)
             path.write_text(json.dumps(traces, indent=2))
+        return
+    if args.shortfall:
+        from simgap.models.blind import search_shortfall
+
+        root.mkdir(parents=True, exist_ok=True)
+        path = root / "shortfall.json"
+        found = json.loads(path.read_text()) if path.is_file() else {}
+        for case in todo:
+            done = _case_folder(root, case) / "case_result.json"
+            if case.label in found or not done.is_file():
+                continue
+            diagnosis = Path(json.loads(done.read_text())["report"]).parent
+            found[case.label] = search_shortfall(case, _case_folder(root, case) / "workflow.yaml",
+                                                 [diagnosis.parent / "evaluations.parquet", diagnosis])
+            if found[case.label]:
+                print(f"{case.label:70s} best / truth training error {found[case.label]['ratio']:.2f}", flush=True)
+            path.write_text(json.dumps(found, indent=2))
         return
     results = []
     t0 = time.perf_counter()
@@ -2201,7 +2223,47 @@ def table(results: list[dict]) -> str:
         named = [f"{case}: {', '.join(w)}" for case, w in wrong.items() if w]
         rows += ["", "| cases with a claim | of them with a claim naming no withheld physics (the first or a further one, any round) | which |", "|---|---|---|",
                  f"| {len(beside)} | **{len(named)}** | {'; '.join(named) or '–'} |"]
+    rows += shortfall_rows(effects + several)
     return "\n".join(rows)
+
+
+def shortfall_rows(results: list[dict]) -> list[str]:
+    """Each withheld effect a case missed, where its truth is a model setting, by why: it left no
+    trace in the record; it was never recalibrated (the screening's miss); its recalibrations'
+    best training error stayed 1.25x the true parameters' or more on some target (the search's);
+    or they came within that and it was not claimed (the judgement's). Beside: how near the
+    searches came to the truth's error in the cases with every withheld effect claimed."""
+    from simgap.models.blind import same_physics
+
+    measured = [r for r in results if (r.get("shortfall") or {}).get("ratio") is not None]
+    if not measured:
+        return []
+    kinds = {"left no trace in the record (< 0.1 noise sigma)": [], "never recalibrated (the screening's miss)": [],
+             "recalibrated; its best training error stayed >= 1.25x the truth's (the search's miss)": [],
+             "recalibrated to within 1.25x the truth's training error, not claimed (the judgement's miss)": []}
+    names = list(kinds)
+    for r in measured:
+        claims = every_claim(r)
+        for effect in r.get("withheld") or [r["effect"]]:
+            if any(c in same_physics(effect) for c in claims):
+                continue
+            own = (r["shortfall"].get("own") or {}).get(effect)
+            trace = (r.get("trace") or {}).get(effect)
+            kind = (names[0] if trace is not None and trace < 0.1 else names[1] if own is None
+                    else names[2] if own >= 1.25 else names[3])
+            kinds[kind].append(f"{r['case']}: {effect}" + (f" ({own:.2f})" if own is not None else ""))
+    every = [r["shortfall"]["ratio"] for r in measured if _all_claimed(r)]
+    rows = ["", f"| a withheld model effect not claimed (the same physics counted), of {len(measured)} cases whose truth is a model setting | effects | which |",
+            "|---|---|---|"]
+    rows += [f"| {kind} | {len(these)} | {'; '.join(these) or '–'} |" for kind, these in kinds.items()]
+    if every:
+        rows.append(f"| (every withheld effect claimed: the lowest training error any search reached / the truth's, median) | {len(every)} cases | {_median(every):.2f} |")
+    return rows
+
+
+def _all_claimed(result: dict) -> bool:
+    withheld = result.get("withheld") or [result["effect"]]
+    return set(withheld) <= set(every_claim(result))
 
 
 def every_claim(result: dict) -> list[str]:

@@ -344,6 +344,11 @@ def test_blind_heat_loss_absorbed_by_a_tuner_is_still_confirmed(tmp_path):
     data = json.loads(next((tmp_path / "loss").glob("runs/*/diagnosis/diagnosis.json")).read_text())
     loss = next(r for r in data["recalibration"] if r["effect"] == "heat_loss")
     assert loss["start"]["scaleHPQCon_nominal"] > data["parameters"]["scaleHPQCon_nominal"], loss["start"]
+    # the searches' best training error against the truth's, over every recalibration, and over
+    # those that added the heat loss
+    short = result["shortfall"]
+    assert set(short["truth"]) == set(short["best"]) == {"THCFlow_K.rmse", "PEl_W.cvrmse"}, short
+    assert 0.5 < short["ratio"] < 1.25 and short["own"]["heat_loss"] >= short["ratio"], short
 
 
 PHYSICAL = ("start_up_lag", "start_up_inertia", "post_run", "sensor_lag", "heat_loss", "cycling", "defrost", "backup_heater")

@@ -142,3 +142,34 @@ def test_every_blind_case_has_a_seed_of_its_own_and_valid_settings():
             if case.effect in model.effects:
                 assert set(case.strength) <= set(model.effects[case.effect].parameters), (name, case.seed, case.strength)
     assert len(seen) > 900
+
+
+def test_the_bench_tells_why_each_withheld_effect_was_missed():
+    """A miss is the record's (no trace), the screening's (never recalibrated), the search's (its
+    recalibrations never fit the training data nearly as well as the truth does) or the
+    judgement's: the table sorts each unclaimed withheld effect into one of them."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "diagnosis_blind.py"
+    spec = importlib.util.spec_from_file_location("diagnosis_blind", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+
+    def case(name, withheld, claimed, own, trace=None):
+        return {"case": name, "model": "m", "effect": "+".join(withheld), "withheld": withheld, "claimed": claimed,
+                "chain": claimed, "trace": trace or {}, "shortfall": {"ratio": 1.0, "own": own}}
+
+    rows = "\n".join(bench.shortfall_rows([
+        case("a", ["cycling", "heat_loss"], ["heat_loss"], {"cycling": 2.3, "heat_loss": 1.0}),
+        case("b", ["post_run"], [], {"post_run": None}, trace={"post_run": 0.0}),
+        case("c", ["heat_loss"], [], {"heat_loss": None}),
+        case("d", ["sensor_lag"], ["sensor_time_constant"], {"sensor_lag": 1.0}),  # the same physics: not missed
+        case("e", ["start_up_lag"], [], {"start_up_lag": 1.1}),
+    ]))
+    lines = {line.split(" | ")[0].strip("| "): line for line in rows.splitlines()}
+    assert "| 1 | b: post_run |" in lines["left no trace in the record (< 0.1 noise sigma)"]
+    assert "| 1 | c: heat_loss |" in lines["never recalibrated (the screening's miss)"]
+    assert "| 1 | a: cycling (2.30) |" in next(v for k, v in lines.items() if "the search's miss" in k)
+    assert "| 1 | e: start_up_lag (1.10) |" in next(v for k, v in lines.items() if "the judgement's miss" in k)
+    assert "sensor_lag" not in rows

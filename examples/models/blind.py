@@ -375,6 +375,8 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     beyond = recal.get("gap_shrink_vs_control")
     # the truth of a sensor effect is no model setting: there is no floor to close the gap to
     closed = _gap_closed(case, workflow, recal) if recal.get("after") and case.effect not in SENSOR_EFFECTS else None
+    # the base calibration's log and this diagnosis's recalibrations (not an earlier diagnosis's)
+    shortfall = search_shortfall(case, workflow, [Path(run_dir) / "evaluations.parquet", Path(result["report"]).parent])
     return {
         "case": case.label,
         "model": case.model,
@@ -400,7 +402,60 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         "diagnosis_s": t2 - t1,
         "report": str(result["report"]),
         "trace": trace,
+        "shortfall": shortfall,
     }
+
+
+def search_shortfall(case: BlindCase, workflow: Path, searched: list[Path]) -> dict | None:
+    """How far the searches fell short of the truth on the training data. ``truth``: per error
+    column, the error of the true parameters with every withheld effect on (one simulation on
+    the same noisy data); ``best``: the lowest training error any run in ``searched`` reached
+    (``evaluations.parquet`` files, or folders holding them: the base calibration and every
+    recalibration of every round); ``ratio``: the worst column's best / truth. ``own``: per
+    withheld effect, the same ratio over the recalibrations that added it (any round), None if
+    none did. A miss whose own recalibration stayed well above 1 is the search's; one near 1, the
+    judgement's; one never recalibrated, the screening's. Below 1 where the searches fit the
+    written data better than the truth's own simulation (the generator's finer steps; a defrost
+    taken from the logged fan stops). None where a withheld effect lives on the data (a
+    sensor's, a clock's: no model setting is its truth) or nothing is withheld."""
+    import json
+
+    import pandas as pd
+
+    from simgap.evaluation import evaluate
+    from simgap.setup import prepare
+
+    if not case.withheld or set(case.withheld) & set(SENSOR_EFFECTS) or case.sensor or case.input_gain:
+        return None
+    truth = json.loads((Path(workflow).parent / "measured.truth.json").read_text())
+    row = evaluate(prepare(workflow).training, -1, truth["parameters"])
+    if row["errors"] is None:
+        return None
+    errors = row["errors"]
+
+    def lowest(paths) -> dict[str, float]:
+        best: dict[str, float] = {}
+        for path in paths:
+            frame = pd.read_parquet(path)
+            for col in errors:
+                if f"error.{col}" in frame:
+                    low = float(frame[f"error.{col}"].min())
+                    best[col] = min(best.get(col, low), low)
+        return best
+
+    def worst(best: dict[str, float]) -> float | None:
+        ratios = [best[c] / v for c, v in errors.items() if c in best and v > 0]
+        return max(ratios) if ratios else None
+
+    paths = [p for place in map(Path, searched) for p in ([place] if place.is_file() else place.rglob("evaluations.parquet"))]
+    best = lowest(paths)
+    own = {}
+    for effect in case.withheld:
+        # .../recalibration/<effect>[_and_<other>]/runs/<run>/evaluations.parquet
+        mine = [p for p in paths if len(p.parents) > 3 and p.parents[3].name == "recalibration"
+                and effect in p.parents[2].name.split("_and_")]
+        own[effect] = worst(lowest(mine)) if mine else None
+    return {"truth": dict(errors), "best": best, "ratio": worst(best), "own": own}
 
 
 def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
