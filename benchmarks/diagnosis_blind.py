@@ -2256,7 +2256,8 @@ def table(results: list[dict]) -> str:
 
 def shortfall_rows(results: list[dict]) -> list[str]:
     """Each withheld effect a case missed, where its truth is a model setting, by why: it left no
-    trace in the record; it was never recalibrated (the screening's miss); its recalibrations'
+    trace in the record; it was never recalibrated (the screening's miss; in a pair, never with
+    the other withheld effect in the model as well); its recalibrations'
     best training error stayed 1.25x the true parameters' or more on some target (the search's);
     or they came within that and it was not claimed (the judgement's). Beside: how near the
     searches came to the truth's error in the cases with every withheld effect claimed."""
@@ -2265,7 +2266,7 @@ def shortfall_rows(results: list[dict]) -> list[str]:
     measured = [r for r in results if (r.get("shortfall") or {}).get("ratio") is not None]
     if not measured:
         return []
-    kinds = {"left no trace in the record (< 0.1 noise sigma)": [], "never recalibrated (the screening's miss)": [],
+    kinds = {"left no trace in the record (< 0.1 noise sigma)": [], "never recalibrated (the screening's miss; in a pair: never beside the other withheld effect)": [],
              "recalibrated; its best training error stayed >= 1.25x the truth's (the search's miss)": [],
              "recalibrated to within 1.25x the truth's training error, not claimed (the judgement's miss)": []}
     names = list(kinds)

@@ -169,7 +169,33 @@ def test_the_bench_tells_why_each_withheld_effect_was_missed():
     ]))
     lines = {line.split(" | ")[0].strip("| "): line for line in rows.splitlines()}
     assert "| 1 | b: post_run |" in lines["left no trace in the record (< 0.1 noise sigma)"]
-    assert "| 1 | c: heat_loss |" in lines["never recalibrated (the screening's miss)"]
+    assert "| 1 | c: heat_loss |" in next(v for k, v in lines.items() if "the screening's miss" in k)
     assert "| 1 | a: cycling (2.30) |" in next(v for k, v in lines.items() if "the search's miss" in k)
     assert "| 1 | e: start_up_lag (1.10) |" in next(v for k, v in lines.items() if "the judgement's miss" in k)
     assert "sensor_lag" not in rows
+
+
+def test_a_pair_s_effect_counts_as_searched_only_beside_the_other(tmp_path):
+    """The search's shortfall for one effect of a pair is read off the recalibrations that had
+    the other withheld effect in the model too (added beside it, or switched on in the round's
+    base model): searched alone, it fits the other's trace, not its own."""
+    from simgap.models.blind import searched_beside
+
+    def run(*parts, on=()):
+        folder = tmp_path.joinpath(*parts, "runs", "r")
+        folder.mkdir(parents=True)
+        start = "".join(f"\n      {name}: 1.0" for name in on)
+        (folder / "workflow.yaml").write_text(f"simulator:\n  plugin: fmu\n  options:\n    start_values:{start or ' {}'}\n")
+        path = folder / "evaluations.parquet"
+        path.write_bytes(b"")
+        return path
+
+    alone = run("diagnosis", "recalibration", "heat_loss")                       # round 1, the loss alone
+    on_top = run("diagnosis", "recalibration", "backup_heater_and_heat_loss")    # round 1, added beside the heater
+    round2 = run("diagnosis", "then", "recalibration", "heat_loss", on=("useBackupHeater",))  # round 2: the heater in the model
+    other = run("diagnosis", "then", "recalibration", "cycling", on=("useBackupHeater",))
+    base = tmp_path / "evaluations.parquet"
+    paths = [alone, on_top, round2, other, base]
+    assert searched_beside(paths, "heat_loss", {"backup_heater": "useBackupHeater"}) == [on_top, round2]
+    assert searched_beside(paths, "heat_loss", {}) == [alone, on_top, round2]
+    assert searched_beside([alone, other], "heat_loss", {"backup_heater": "useBackupHeater"}) == []
