@@ -61,6 +61,12 @@ COMBINATIONS = {
 }
 
 
+WINTER = ("winter", "winter", "winter", "winter")
+AUTUMN = ("autumn", "autumn", "autumn", "autumn")
+MIXED = ("autumn", "winter", "autumn", "winter")
+"""Seasons of a blind case's days (``BlindCase.seasons``) that most sets use."""
+
+
 def unseen_cases(models: list[str]) -> list[BlindCase]:
     """Cases the diagnosis was never developed on, their settings fixed before any was run
     (issue 14): other strengths, seasons, noise, resolutions and gaps; sensor and logger
@@ -147,7 +153,7 @@ def fourth_cases(models: list[str]) -> list[BlindCase]:
     water-to-water one; six null cases; two two-effect cases."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
+    winter = WINTER
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 250.0}, seed=601),
         B(air, "heat_loss", strength={"UALossCon": 45.0, "UALossPipe": 0.0}, seed=602, noise_scale=2.0),
@@ -187,7 +193,7 @@ def fifth_cases(models: list[str]) -> list[BlindCase]:
     about); six null cases; two two-effect cases."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
+    winter = WINTER
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 400.0}, seed=701, noise_scale=1.5),
         B(air, "heat_loss", strength={"UALossCon": 20.0, "UALossPipe": 15.0}, seed=702),
@@ -229,8 +235,8 @@ def sixth_cases(models: list[str]) -> list[BlindCase]:
     six null cases; two two-effect cases."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 200.0}, seed=801, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 35.0, "UALossPipe": 5.0}, seed=802, noise_scale=1.5),
@@ -273,7 +279,7 @@ def seventh_cases(models: list[str]) -> list[BlindCase]:
     noise and gaps, a tuner's truth at its bound, white noise); two two-effect cases."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
+    winter = WINTER
     summer_autumn = ("summer", "autumn", "summer", "autumn")
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 300.0}, seed=901, seasons=summer_autumn),
@@ -319,8 +325,8 @@ def eighth_cases(models: list[str]) -> list[BlindCase]:
     about; six null cases (plain, noise, gaps, a tuner's truth at its bound); two pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 500.0}, seed=1001, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 15.0}, seed=1002),
@@ -366,8 +372,8 @@ def ninth_cases(models: list[str]) -> list[BlindCase]:
     effects that are both there must both stay claimed)."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 250.0}, seed=1101, noise_scale=1.2),
         B(air, "heat_loss", strength={"UALossCon": 15.0, "UALossPipe": 30.0}, seed=1102, seasons=autumn),
@@ -413,8 +419,8 @@ def tenth_cases(models: list[str]) -> list[BlindCase]:
     is for); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 350.0}, seed=1201, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 20.0, "UALossPipe": 20.0}, seed=1202, noise_scale=1.3),
@@ -461,8 +467,8 @@ def eleventh_cases(models: list[str]) -> list[BlindCase]:
     thermometer offset (the cases the change is about); six null cases; three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=1301),
         B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 10.0}, seed=1302, seasons=autumn),
@@ -510,8 +516,8 @@ def twelfth_cases(models: list[str]) -> list[BlindCase]:
     and two air sensor lags (the cases the changes are about); six null cases; three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 300.0}, seed=1401, seasons=winter),
         B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 20.0}, seed=1402),
@@ -560,8 +566,8 @@ def thirteenth_cases(models: list[str]) -> list[BlindCase]:
     constants (the cases the change is about); six null cases; three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 500.0}, seed=1501, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 35.0, "UALossPipe": 5.0}, seed=1502),
@@ -607,8 +613,8 @@ def fourteenth_cases(models: list[str]) -> list[BlindCase]:
     three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 400.0}, seed=1601),
         B(air, "heat_loss", strength={"UALossCon": 15.0, "UALossPipe": 15.0}, seed=1602),
@@ -655,8 +661,8 @@ def fifteenth_cases(models: list[str]) -> list[BlindCase]:
     pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 320.0}, seed=1701),
         B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 10.0}, seed=1702),
@@ -702,7 +708,7 @@ def sixteenth_cases(models: list[str]) -> list[BlindCase]:
     1801-1807."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    autumn = AUTUMN
     out = [
         B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 0.85}, seed=1801),
         B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.2}, seed=1802, seasons=autumn),
@@ -726,8 +732,8 @@ def seventeenth_cases(models: list[str]) -> list[BlindCase]:
     meter; six null cases (two tuners at a bound no set used); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=1901),
         B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 18.0}, seed=1902, seasons=autumn),
@@ -774,8 +780,8 @@ def eighteenth_cases(models: list[str]) -> list[BlindCase]:
     bound, less noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 210.0}, seed=2001, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 8.0}, seed=2002, seasons=winter),
@@ -822,8 +828,8 @@ def nineteenth_cases(models: list[str]) -> list[BlindCase]:
     cases (a tuner at each model's bound, more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 330.0}, seed=2101, seasons=winter),
         B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 14.0}, seed=2102, seasons=autumn),
@@ -870,8 +876,8 @@ def twentieth_cases(models: list[str]) -> list[BlindCase]:
     tuner at each model's bound, less noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 520.0}, seed=2201),
         B(air, "heat_loss", strength={"UALossCon": 50.0, "UALossPipe": 5.0}, seed=2202),
@@ -919,8 +925,8 @@ def twenty_first_cases(models: list[str]) -> list[BlindCase]:
     pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=2301, seasons=winter),
         B(air, "heat_loss", strength={"UALossCon": 20.0, "UALossPipe": 25.0}, seed=2302, seasons=autumn),
@@ -968,8 +974,8 @@ def twenty_second_cases(models: list[str]) -> list[BlindCase]:
     cases (a tuner at each model's bound, less noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 250.0}, seed=2401, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 35.0, "UALossPipe": 10.0}, seed=2402, seasons=winter),
@@ -1018,8 +1024,8 @@ def twenty_third_cases(models: list[str]) -> list[BlindCase]:
     bound, more noise, lost rows); three pairs, one of them winter cycling with defrost again."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 320.0}, seed=2501, seasons=winter),
         B(air, "heat_loss", strength={"UALossCon": 45.0, "UALossPipe": 15.0}, seed=2502, seasons=autumn),
@@ -1068,8 +1074,8 @@ def twenty_fourth_cases(models: list[str]) -> list[BlindCase]:
     pairs, two of them with cycling."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 380.0}, seed=2601, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 20.0}, seed=2602, seasons=winter),
@@ -1118,8 +1124,8 @@ def twenty_fifth_cases(models: list[str]) -> list[BlindCase]:
     less and more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 280.0}, seed=2701),
         B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 12.0}, seed=2702),
@@ -1168,8 +1174,8 @@ def twenty_sixth_cases(models: list[str]) -> list[BlindCase]:
     bound, less and more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 350.0}, seed=2801, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 20.0}, seed=2802, seasons=winter),
@@ -1219,8 +1225,8 @@ def twenty_seventh_cases(models: list[str]) -> list[BlindCase]:
     a bound, less and more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 240.0}, seed=2901, seasons=winter),
         B(air, "heat_loss", strength={"UALossCon": 45.0, "UALossPipe": 8.0}, seed=2902, seasons=autumn),
@@ -1269,8 +1275,8 @@ def twenty_eighth_cases(models: list[str]) -> list[BlindCase]:
     at a bound, less and more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 400.0}, seed=3001, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 25.0, "UALossPipe": 30.0}, seed=3002, seasons=winter),
@@ -1320,8 +1326,8 @@ def twenty_ninth_cases(models: list[str]) -> list[BlindCase]:
     bound, more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 520.0}, seed=3101, seasons=winter),
         B(air, "heat_loss", strength={"UALossCon": 45.0, "UALossPipe": 12.0}, seed=3102, seasons=autumn),
@@ -1372,8 +1378,8 @@ def thirtieth_cases(models: list[str]) -> list[BlindCase]:
     three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 380.0}, seed=3201, seasons=autumn),
         B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 25.0}, seed=3202, seasons=winter),
@@ -1423,9 +1429,7 @@ def thirty_first_cases(models: list[str]) -> list[BlindCase]:
     low; six null cases (tuners at a bound, more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
-    mixed = ("autumn", "winter", "autumn", "winter")
+    winter, autumn, mixed = WINTER, AUTUMN, MIXED
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 600.0}, seed=3301, seasons=mixed),
         B(air, "heat_loss", strength={"UALossCon": 50.0, "UALossPipe": 15.0}, seed=3302, seasons=autumn),
@@ -1475,8 +1479,8 @@ def thirty_second_cases(models: list[str]) -> list[BlindCase]:
     bound never tried before, less and more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     mixed = ("winter", "autumn", "winter", "autumn")
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=3401, seasons=winter),
@@ -1527,8 +1531,8 @@ def thirty_third_cases(models: list[str]) -> list[BlindCase]:
     tried before, less and more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     mixed = ("winter", "autumn", "winter", "autumn")
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 300.0}, seed=3501, seasons=mixed),
@@ -1580,9 +1584,7 @@ def thirty_fourth_cases(models: list[str]) -> list[BlindCase]:
     at bounds never tried before, less and more noise, lost rows); three pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
-    mixed = ("autumn", "winter", "autumn", "winter")
+    winter, autumn, mixed = WINTER, AUTUMN, MIXED
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 420.0}, seed=3601, seasons=winter),
         B(air, "heat_loss", strength={"UALossCon": 40.0, "UALossPipe": 12.0}, seed=3602, seasons=autumn),
@@ -1634,8 +1636,8 @@ def thirty_fifth_cases(models: list[str]) -> list[BlindCase]:
     pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     mixed = ("winter", "autumn", "winter", "autumn")
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 520.0}, seed=3701, seasons=mixed),
@@ -1689,8 +1691,8 @@ def thirty_sixth_cases(models: list[str]) -> list[BlindCase]:
     pairs."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
+    winter = WINTER
+    autumn = AUTUMN
     mixed = ("autumn", "autumn", "winter", "winter")
     t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
     out = [
@@ -1745,9 +1747,7 @@ def thirty_seventh_cases(models: list[str]) -> list[BlindCase]:
     heat loss with the clock 10 minutes late)."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
-    mixed = ("autumn", "winter", "autumn", "winter")
+    winter, autumn, mixed = WINTER, AUTUMN, MIXED
     t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=3901, seasons=winter),
@@ -1803,9 +1803,7 @@ def thirty_eighth_cases(models: list[str]) -> list[BlindCase]:
     effect)."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
-    mixed = ("autumn", "winter", "autumn", "winter")
+    winter, autumn, mixed = WINTER, AUTUMN, MIXED
     t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 550.0}, seed=4001, seasons=mixed),
@@ -1861,9 +1859,7 @@ def thirty_ninth_cases(models: list[str]) -> list[BlindCase]:
     where earlier sets held three."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
-    mixed = ("autumn", "winter", "autumn", "winter")
+    winter, autumn, mixed = WINTER, AUTUMN, MIXED
     t_air, t_w2w = synth.MODELS[air].tuners, synth.MODELS[w2w].tuners
     out = [
         B(air, "start_up_lag", strength={"tauStartUp": 380.0}, seed=4101, seasons=autumn),
@@ -1915,9 +1911,7 @@ def fortieth_cases(models: list[str]) -> list[BlindCase]:
     strengths and seasons chosen afresh; two null cases (lost rows; more noise)."""
     B = BlindCase
     air, w2w = "air_source_hp", "water_to_water_hp"
-    winter = ("winter", "winter", "winter", "winter")
-    autumn = ("autumn", "autumn", "autumn", "autumn")
-    mixed = ("autumn", "winter", "autumn", "winter")
+    winter, autumn, mixed = WINTER, AUTUMN, MIXED
     out = [
         B(air, "heat_loss", strength={"UALossCon": 30.0, "UALossPipe": 12.0}, also=("backup_heater",), seed=4201, seasons=winter),
         B(air, "post_run", strength={"tPostRun": 600.0}, lag={"THCFlow_K": 300.0}, seed=4202, seasons=mixed),
@@ -2257,9 +2251,9 @@ def table(results: list[dict]) -> str:
 def shortfall_rows(results: list[dict]) -> list[str]:
     """Each withheld effect a case missed, where its truth is a model setting, by why: it left no
     trace in the record; it was never recalibrated (the screening's miss; in a pair, never with
-    the other withheld effect in the model as well); its recalibrations'
-    best training error stayed 1.25x the true parameters' or more on some target (the search's);
-    or they came within that and it was not claimed (the judgement's). Beside: how near the
+    the other withheld effect in the model as well); its recalibrations' best training error
+    stayed 1.25x the true parameters' or more on some target (the search's); or they came within
+    that and it was not claimed (the judgement's). Beside: how near the
     searches came to the truth's error in the cases with every withheld effect claimed."""
     from simgap.models.blind import same_physics
 

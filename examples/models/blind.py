@@ -416,8 +416,9 @@ def search_shortfall(case: BlindCase, workflow: Path, searched: list[Path]) -> d
     other withheld effect in the model too, None if none did. A miss whose own recalibration
     stayed well above 1 is the search's; one near 1, the judgement's; one never recalibrated,
     the screening's. Below 1 where the searches fit the written data better than the truth's
-    own simulation (the generator's finer steps; a defrost taken from the logged fan stops). None where a withheld effect lives on the data (a
-    sensor's, a clock's: no model setting is its truth) or nothing is withheld."""
+    own simulation (the generator's finer steps; a defrost taken from the logged fan stops).
+    None where a withheld effect lives on the data (a sensor's, a clock's: no model setting is
+    its truth) or nothing is withheld."""
     import json
 
     import pandas as pd
