@@ -473,7 +473,10 @@ def searched_beside(paths: list[Path], effect: str, others: Mapping[str, str]) -
         if len(path.parents) <= 3 or path.parents[3].name != "recalibration":
             continue
         added = path.parents[2].name.split("_and_")
-        if effect in added and all(o in added or switch in _switched_on(path.parent) for o, switch in others.items()):
+        if effect not in added:
+            continue
+        missing = [switch for o, switch in others.items() if o not in added]
+        if not missing or set(missing) <= _switched_on(path.parent):  # the workflow read once, only if needed
             out.append(path)
     return out
 
