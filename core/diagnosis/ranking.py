@@ -92,6 +92,13 @@ class Candidate:
     of that one (None: not tested)."""
     first: str | None = None
     """The better-confirmed effect it was tested on top of."""
+    together: str = ""
+    """The effect it was confirmed together with, where neither was confirmed alone
+    (:func:`simgap.diagnosis.run.undecided_together`); empty otherwise."""
+    together_shrink: float | None = None
+    """That joint recalibration's gap shrink beyond re-tuning alone."""
+    together_p: float | None = None
+    """Chance that the joint recalibration's improvement over re-tuning alone is noise."""
     min_shrink: float = 0.0
     judged_on: dict[str, float] = field(default_factory=dict)
     """A reading error's weights per target once recalibrated, by how far the recalibration moved
@@ -187,8 +194,8 @@ class Candidate:
             return False  # what it closes, the better effect closes already
         if self.reopened:
             return False  # it buys one target's fit with another's
-        if self.p_vs_control is not None and not self.p_vs_control <= self.confirm_significance:
-            return False  # the shrink is within what chance gives on this record
+        if self.p_vs_control is not None and not self.p_vs_control <= self.confirm_significance and not self.together:
+            return False  # the shrink is within what chance gives on this record (alone: together, the pair's test decided)
         if self.fitted_no_better:
             return False  # no better where it was fitted: its validation gain is not its own
         return confirming >= self.min_shrink
@@ -288,6 +295,9 @@ class Candidate:
             "stand_in_slot": self.stand_in_slot,
             "p_vs_control": self.p_vs_control,
             "beyond_first": self.beyond_first,
+            "together": self.together,
+            "together_shrink": self.together_shrink,
+            "together_p": self.together_p,
             "first": self.first,
             "claimed": self.claimed,
             "within_noise": self.within_noise,

@@ -194,7 +194,15 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
             said = beyond(c)
             return f" ({said})" if said else ""
 
-        parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
+        if claimed[0].together:
+            partner = next((c for c in claimed if c.name == claimed[0].together), None)
+            parts.append(f"most likely unmodelled effects, together: {claimed[0].name} and {claimed[0].together} (neither confirmed "
+                         f"alone; recalibrated together, gap shrink {claimed[0].together_shrink:.0%} beyond re-tuning, "
+                         f"p = {claimed[0].together_p:.2g}; each adds {min(claimed[0].beyond_first, partner.beyond_first if partner else 1.0):.0%} "
+                         "or more on top of the other alone)")
+            claimed = [claimed[0]] + [c for c in claimed[1:] if c is not partner]
+        else:
+            parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
         if claimed[0].at_bounds:
             parts.append("but its recalibration left " + ", ".join(f"{n} = {v:.4g}" for n, v in claimed[0].at_bounds.items())
                          + " at the bounds of their ranges: the effect needs more than its range allows, or stands in for "
@@ -492,7 +500,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"ones are recalibrated once more, at half that p-value. Before an effect other than a reading error is claimed, "
               f"a significant reading error (a thermometer's offset, a meter's gain) is recalibrated too and judged on every "
               f"target it reads: a tuner may have taken it up. A generic effect whose twin, the model's own effect of the same "
-              f"physics, was recalibrated in its place and lost to the claim is recalibrated too. "
+              f"physics, was recalibrated in its place and lost to the claim is recalibrated too. Where nothing is claimed and two "
+              f"physical effects are each undecided (past the shrink threshold, not past chance), they are recalibrated together and "
+              f"both claimed if each adds the threshold on top of the other alone and the pair beats re-tuning beyond chance. "
               f"The rank orders recalibrated effects by their shrink, then the rest by share. *As simulated* is the most "
               f"that one screened setting's simulated change removes of a target's residual as it is (— where the effect "
               f"cannot be simulated on this model).", ""]

@@ -274,19 +274,28 @@ def recalibrate(
         # the control judged by the same rule: its front member picked with this effect's
         # weights (a control picked for all targets alike loses to any effect on the target the
         # effect's weights favour, which credited an effect with a tuner's freedom)
-        control = _control_picked_for(ctx, control, picked_by)
-        out["control_solution"] = control.get("solution")
-        out["shrink_vs_control"], out["gap_shrink_vs_control"] = beyond_control(out["above_noise"], control["above_noise"], weights)
-        out["shrink_vs_control_training"], out["gap_shrink_vs_control_training"] = beyond_control(
-            out["above_noise_training"], control.get("above_noise_training", {}), weights
-        )
-        out["p_vs_control"] = improvement_p_value(out[RESIDUALS], control.get(RESIDUALS, {}), weights)
-        out["p_vs_control_training"] = improvement_p_value(out[RESIDUALS_TRAINING], control.get(RESIDUALS_TRAINING, {}), weights)
+        out.update(against_control(ctx, out, control, weights, picked_by=picked_by))
         if ablate_only:
             _against_effect_off(ctx, out, weights, prepared=prepared, off={p.name: weak_end(p) for p in ablate_only})
         elif ablate and (addition.switch or addition.around):
             _against_effect_off(ctx, out, weights)
     return out
+
+
+def against_control(ctx: Context, out: dict, control: dict, weights: dict[str, float],
+                    picked_by: dict[str, float] | None = None) -> dict:
+    """A recalibration's result (``out``) against the control's: the shrinks beyond it and the
+    chance of each being noise, on validation and training, the control's front member picked
+    with ``picked_by`` (default ``weights``)."""
+    control = _control_picked_for(ctx, control, weights if picked_by is None else picked_by)
+    judged = {"control_solution": control.get("solution")}
+    judged["shrink_vs_control"], judged["gap_shrink_vs_control"] = beyond_control(out["above_noise"], control["above_noise"], weights)
+    judged["shrink_vs_control_training"], judged["gap_shrink_vs_control_training"] = beyond_control(
+        out["above_noise_training"], control.get("above_noise_training", {}), weights
+    )
+    judged["p_vs_control"] = improvement_p_value(out[RESIDUALS], control.get(RESIDUALS, {}), weights)
+    judged["p_vs_control_training"] = improvement_p_value(out[RESIDUALS_TRAINING], control.get(RESIDUALS_TRAINING, {}), weights)
+    return judged
 
 
 def _against_effect_off(ctx: Context, out: dict, weights: dict[str, float], prepared=None,
