@@ -1926,6 +1926,28 @@ def fortieth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_first_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-first blind set (issue 14), written and committed before any of it ran, after the
+    rule that recalibrates two physical effects undecided alone together
+    (``diagnosis.run.undecided_together``) was committed: pairs only. Seeds 4301-4308; six pairs
+    of two model effects each, no combination sets 39 and 40 or the bench's own held, strengths
+    and seasons chosen afresh; two null cases (less noise; lost rows in winter)."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(air, "post_run", strength={"tPostRun": 700.0}, also=("heat_loss",), seed=4301, seasons=AUTUMN),
+        B(air, "cycling", strength={"tCycMinRun": 1200.0, "tCycMinOff": 900.0}, also=("backup_heater",), seed=4302, seasons=WINTER),
+        B(air, "sensor_lag", strength={"tauSensor": 240.0}, also=("start_up_lag",), seed=4303, seasons=MIXED),
+        B(w2w, "heat_loss", strength={"UALossGen": 450.0}, also=("cycling",), seed=4304, seasons=AUTUMN),
+        B(w2w, "post_run", strength={"tPostRun": 1800.0}, also=("backup_heater",), seed=4305, seasons=WINTER),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 600.0}, also=("sensor_lag",), seed=4306, seasons=MIXED),
+        # null cases
+        B(air, None, seed=4307, seasons=AUTUMN, noise_scale=0.8),
+        B(w2w, None, seed=4308, seasons=WINTER, missing_fraction=0.02),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1959,7 +1981,7 @@ BLIND_SETS = {
     "thirty_fourth": thirty_fourth_cases, "thirty_fifth": thirty_fifth_cases,
     "thirty_sixth": thirty_sixth_cases, "thirty_seventh": thirty_seventh_cases,
     "thirty_eighth": thirty_eighth_cases, "thirty_ninth": thirty_ninth_cases,
-    "fortieth": fortieth_cases,
+    "fortieth": fortieth_cases, "forty_first": forty_first_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
