@@ -384,7 +384,8 @@ def _chain_markdown(chain: list[dict]) -> str:
              "in the model); each round's report is under `then/`.", "",
              "| round | confirmed effect | gap shrink in its round | cumulative shrink of the original gap |", "|---|---|---|---|"]
     for link in chain:
-        lines.append(f"| {link['round']} | {link['effect']} | {_pct(link['gap_shrink'])} | {_pct(link['cumulative_shrink'])} |")
+        effect = link["effect"] + (f" (together with {link['together_with']})" if link.get("together_with") else "")
+        lines.append(f"| {link['round']} | {effect} | {_pct(link['gap_shrink'])} | {_pct(link['cumulative_shrink'])} |")
     last = chain[-1]
     if last.get("further_error"):
         lines += ["", f"The further round failed: {last['further_error']}"]

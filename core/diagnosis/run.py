@@ -513,10 +513,10 @@ def undecided_together(ctx, candidates: list[Candidate], shrink: list[dict], con
     stands in for any offset, and is judged before a physical claim anyway. Chosen on that one
     stored case and the other no-claim rounds of blind sets 37-40 (none of which has two
     undecided effects), before the forty-first blind set."""
-    if control is None or not control.get("above_noise") or any(c.claimed for c in candidates):
+    if control is None or not control.get("above_noise"):
         return []
-    pair = [c for c in candidates if c.applicable and c.undecided and not c.reading_error and c.addition is not None][:2]
-    if len(pair) < 2 or pair[0].same_as == pair[1].name or pair[1].same_as == pair[0].name:
+    pair = undecided_pair(candidates)
+    if pair is None:
         return []
     first, second = pair
     results = {c.name: next((r for r in shrink if r.get("effect") == c.name and "after" in r), None) for c in pair}
@@ -536,17 +536,39 @@ def undecided_together(ctx, candidates: list[Candidate], shrink: list[dict], con
     judged = against_control(ctx, forward, control, weights)
     forward["together"] = {k: v for k, v in judged.items() if k != "control_solution"}
     value, p_value = judged.get("gap_shrink_vs_control"), judged.get("p_vs_control")
-    reopened = reopened_targets(judged)
     say(f"  together: gap shrink beyond re-tuning {value:.0%} (p = {p_value:.2g}); {first.name} adds {first_beyond:.0%} "
         f"on top of {second.name}, {second.name} {second_beyond:.0%} on top of {first.name}")
-    threshold = max(first.min_shrink, second.min_shrink)
-    if (value is not None and value >= threshold and p_value is not None and p_value <= ctx.config.confirm_significance
-            and not reopened and first_beyond >= first.min_shrink and second_beyond >= second.min_shrink):
+    if claimed_together(pair, (first_beyond, second_beyond), judged, ctx.config.confirm_significance):
         for c, partner, beyond in ((first, second, first_beyond), (second, first, second_beyond)):
             c.together, c.together_shrink, c.together_p = partner.name, float(value), float(p_value)
             c.beyond_first, c.first = beyond, partner.name
         forward["claimed_together"] = [first.name, second.name]
     return out
+
+
+def undecided_pair(candidates: list[Candidate]) -> tuple[Candidate, Candidate] | None:
+    """The two physical effects :func:`undecided_together` recalibrates together, best first
+    (``candidates`` in :func:`confirm_order`): nothing claimed, both undecided alone, neither a
+    reading error, both addable, not two names of one physics; else None."""
+    if any(c.claimed for c in candidates):
+        return None
+    pair = [c for c in candidates if c.applicable and c.undecided and not c.reading_error and c.addition is not None][:2]
+    if len(pair) < 2 or pair[0].same_as == pair[1].name or pair[1].same_as == pair[0].name:
+        return None
+    return pair[0], pair[1]
+
+
+def claimed_together(pair: tuple[Candidate, Candidate], beyond: tuple[float, float], judged: dict, significance: float) -> bool:
+    """Whether :func:`undecided_together` claims the pair: each effect's further shrink on top of
+    the other alone (``beyond``, in ``pair``'s order, counted as none where chance could give
+    it) at least its confirmation threshold, and the pair's recalibration against re-tuning
+    alone (``judged``, :func:`simgap.diagnosis.shrink.against_control`) past the threshold, past
+    chance (``significance``), and re-opening no target's gap."""
+    value, p_value = judged.get("gap_shrink_vs_control"), judged.get("p_vs_control")
+    if value is None or p_value is None or not (value == value and p_value == p_value):
+        return False
+    return (value >= max(c.min_shrink for c in pair) and p_value <= significance and not reopened_targets(judged)
+            and all(b is not None and b >= c.min_shrink for c, b in zip(pair, beyond)))
 
 
 def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder: Path, say) -> list[dict]:
