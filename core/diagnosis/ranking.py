@@ -99,6 +99,10 @@ class Candidate:
     """That joint recalibration's gap shrink beyond re-tuning alone."""
     together_p: float | None = None
     """Chance that the joint recalibration's improvement over re-tuning alone is noise."""
+    unconfirmed_next: bool = False
+    """Confirmed beside the round's best effect, but the next round, diagnosing the model
+    recalibrated with the best, did not claim it (:func:`simgap.diagnosis.run.unconfirmed_next`):
+    not claimed."""
     min_shrink: float = 0.0
     judged_on: dict[str, float] = field(default_factory=dict)
     """A reading error's weights per target once recalibrated, by how far the recalibration moved
@@ -173,7 +177,7 @@ class Candidate:
     def claimed(self) -> bool:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap, of
         a gap re-tuning alone does not bring to within the noise."""
-        return self.confirmed and not self.within_noise
+        return self.confirmed and not self.within_noise and not self.unconfirmed_next
 
     @property
     def within_noise_only(self) -> bool:
@@ -267,7 +271,8 @@ class Candidate:
         strongest such ones where nothing is claimed, so that "nothing found" never hides where
         the screening pointed (a switching effect's fit can be too narrow for the search)."""
         return (self.pointed_at and self.gap_shrink is not None and not self.claimed and not self.undecided
-                and not self.like_retuning and not self.reopened and not self.fitted_no_better and not self.within_noise_only)
+                and not self.like_retuning and not self.reopened and not self.fitted_no_better and not self.within_noise_only
+                and not self.unconfirmed_next)
 
     def as_dict(self) -> dict:
         return {
@@ -298,6 +303,7 @@ class Candidate:
             "together": self.together,
             "together_shrink": self.together_shrink,
             "together_p": self.together_p,
+            "unconfirmed_next": self.unconfirmed_next,
             "first": self.first,
             "claimed": self.claimed,
             "within_noise": self.within_noise,

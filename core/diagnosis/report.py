@@ -215,6 +215,11 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
         if equivalent:
             parts.append("as good on these data, not told apart from it: "
                          + ", ".join(f"{c.name} ({beyond(c, '; ')}named second: {named_second(claimed[0], c)})" for c in equivalent))
+        dropped = [c for c in candidates if c.unconfirmed_next]
+        if dropped:
+            # beside the best one, a flexible effect took up what the next round found to be another
+            parts.append(f"confirmed beside {claimed[0].name} but not claimed, the next round (with {claimed[0].name} in the model) "
+                         "did not confirm it: " + ", ".join(c.name + shrink(c) for c in dropped))
         if len(claimed) > 1:
             # a further claim at the bounds of its ranges may stand in for what the first did not
             # fit exactly (a flow-thermometer offset of 2 K beside an air backup heater fitted at
@@ -533,7 +538,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             shrunk += f"; re-tuning {tuner} reproduces {_pct(share)} of its change of {target}"
         lines.append(
             f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {_pct(c.as_simulated) if c.addition is not None else '—'} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
-            f"{'**yes**' if c.claimed else 'no'} | {c.description} |"
+            f"{'**yes**' if c.claimed else ('no (not by the next round)' if c.unconfirmed_next else 'no')} | {c.description} |"
         )
     present = [c for c in candidates if c.in_model]
     if present:
