@@ -1948,6 +1948,30 @@ def forty_first_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_second_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-second blind set (issue 14), written and committed before any of it ran, after the
+    rule that a further claim beside a round's best stands only where the next round claims it
+    too (``diagnosis.run.unconfirmed_next``) was committed: pairs only. Seeds 4401-4408; three
+    pairs of a model effect and a reading error (the rule's cost: a real reading error claimed
+    beside the best must be claimed again in round 2) and three of two model effects, none
+    of them a combination sets 39-41 held; two null cases (more noise; autumn)."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 400.0}, sensor={"THCFlow_K": (0.4, 1.0)}, seed=4401, seasons=MIXED),
+        B(air, "defrost", strength={"tDefrost": 400.0}, also=("post_run",), seed=4402, seasons=WINTER),
+        B(air, "backup_heater", strength={"TOdaBackup": 274.15, "PBackup": 4000.0}, sensor={"PEl_W": (0.0, 1.08)}, seed=4403,
+          seasons=WINTER),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 900.0}, also=("start_up_lag",), seed=4404, seasons=AUTUMN),
+        B(w2w, "heat_loss", strength={"UALossGen": 300.0}, shift_s=600.0, seed=4405, seasons=MIXED),
+        B(w2w, "post_run", strength={"tPostRun": 1500.0}, sensor={"TSup_K": (-0.3, 1.0)}, seed=4406, seasons=AUTUMN),
+        # null cases
+        B(air, None, seed=4407, seasons=MIXED, noise_scale=1.2),
+        B(w2w, None, seed=4408, seasons=AUTUMN),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -1982,6 +2006,7 @@ BLIND_SETS = {
     "thirty_sixth": thirty_sixth_cases, "thirty_seventh": thirty_seventh_cases,
     "thirty_eighth": thirty_eighth_cases, "thirty_ninth": thirty_ninth_cases,
     "fortieth": fortieth_cases, "forty_first": forty_first_cases,
+    "forty_second": forty_second_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
