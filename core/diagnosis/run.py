@@ -580,18 +580,18 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
     if not claimed:
         return []
     best = claimed[0]
-    result = next((r for r in shrink if r.get("effect") == best.name and r.get("run") and "solution" in r), None)
-    value = best.gap_shrink if best.gap_shrink is not None else math.nan
-    chain = [{"round": 1, "effect": best.name, "gap_shrink": value, "cumulative_shrink": value,
-              "run": result.get("run") if result else None}]
     if best.together:
-        # confirmed as a pair: both are one link, and the next round goes on from their joint
+        # confirmed as a pair: both are round 1, and the next round goes on from their joint
         # recalibration (both then in the model)
         result = next((r for r in shrink if best.name in (r.get("claimed_together") or []) and r.get("run") and "solution" in r), None)
         value = float(result["gap_shrink"]) if result and result.get("gap_shrink") is not None else math.nan
-        chain = [{"round": 1, "effect": name, "together_with": other, "gap_shrink": value, "cumulative_shrink": value,
-                  "run": result.get("run") if result else None}
-                 for name, other in ((best.name, best.together), (best.together, best.name))]
+        links = [{"effect": best.name, "together_with": best.together}, {"effect": best.together, "together_with": best.name}]
+    else:
+        result = next((r for r in shrink if r.get("effect") == best.name and r.get("run") and "solution" in r), None)
+        value = best.gap_shrink if best.gap_shrink is not None else math.nan
+        links = [{"effect": best.name}]
+    chain = [{"round": 1, **link, "gap_shrink": value, "cumulative_shrink": value, "run": result.get("run") if result else None}
+             for link in links]
     if ctx.config.iterations <= 1 or result is None:
         chain[-1]["stopped"] = "the round limit (diagnose.iterations)" if result is not None else "no recalibrated run to go on from"
         return chain
