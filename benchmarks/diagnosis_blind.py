@@ -1972,6 +1972,30 @@ def forty_second_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_third_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-third blind set (issue 14), written and committed before any of it ran, with both
+    of session 46's rules on (two effects undecided alone judged together; a further claim needs
+    the next round): pairs only. Seeds 4501-4508; three pairs of model effects whose signatures
+    overlap (where each alone fits only part: the undecided-pair rule's ground) and three of a
+    model effect with a reading error, strengths and seasons chosen afresh; two null cases (a
+    tuner at its bound; 10-minute logging)."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(air, "heat_loss", strength={"UALossCon": 20.0, "UALossPipe": 8.0}, also=("post_run",), seed=4501, seasons=MIXED),
+        B(w2w, "heat_loss", strength={"UALossGen": 250.0}, also=("post_run",), seed=4502, seasons=WINTER),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 450.0}, also=("post_run",), seed=4503, seasons=AUTUMN),
+        B(air, "heat_loss", strength={"UALossCon": 40.0}, sensor={"THCFlow_K": (-0.3, 1.0)}, seed=4504, seasons=AUTUMN),
+        B(air, "post_run", strength={"tPostRun": 500.0}, shift_s=480.0, seed=4505, seasons=MIXED),
+        B(w2w, "cycling", strength={"tCycMinRun": 1500.0, "tCycMinOff": 1500.0}, sensor={"PEl_W": (0.0, 0.92)}, seed=4506,
+          seasons=AUTUMN),
+        # null cases
+        B(air, None, seed=4507, seasons=WINTER, truth={"fQCold": synth.MODELS[air].tuners["fQCold"].upper}),
+        B(w2w, None, seed=4508, seasons=MIXED, resolution=600.0),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2006,7 +2030,7 @@ BLIND_SETS = {
     "thirty_sixth": thirty_sixth_cases, "thirty_seventh": thirty_seventh_cases,
     "thirty_eighth": thirty_eighth_cases, "thirty_ninth": thirty_ninth_cases,
     "fortieth": fortieth_cases, "forty_first": forty_first_cases,
-    "forty_second": forty_second_cases,
+    "forty_second": forty_second_cases, "forty_third": forty_third_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
