@@ -376,6 +376,12 @@ def prefer_simpler(candidates: list[Candidate], results: list[dict]) -> None:
     chosen.equivalent = [c.name for c in pool if c is not chosen]
 
 
+def recalibrated(results: list[dict], name: str) -> dict | None:
+    """The finished recalibration of effect ``name`` alone among ``results`` (one with errors
+    after it), or None."""
+    return next((r for r in results if r.get("effect") == name and "after" in r), None)
+
+
 def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folder: Path, say) -> list[dict]:
     """Every further confirmed effect recalibrated together with the best-confirmed one, and
     claimed only if it shrinks the gap beyond that one alone: two effects that both explain the
@@ -384,7 +390,7 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
     if len(confirmed) < 2:
         return []
     first = confirmed[0]
-    first_result = next((r for r in results if r.get("effect") == first.name and "after" in r), None)
+    first_result = recalibrated(results, first.name)
     if first_result is None:
         return []
     out = []
@@ -397,7 +403,7 @@ def on_top_of_first(ctx, candidates: list[Candidate], results: list[dict], folde
     for cand in confirmed[1:]:
         judge_on_top(first, first_result, cand)
     lead = may_take_the_lead(first, confirmed[1:])
-    lead_result = next((r for r in results if lead is not None and r.get("effect") == lead.name and "after" in r), None)
+    lead_result = recalibrated(results, lead.name) if lead is not None else None
     if lead_result is not None:
         # the reverse: the first on top of the further one. Where it then adds nothing, the
         # further one explains all it does and more, and leads: a sensor time constant and a
@@ -519,7 +525,7 @@ def undecided_together(ctx, candidates: list[Candidate], shrink: list[dict], con
     if pair is None:
         return []
     first, second = pair
-    results = {c.name: next((r for r in shrink if r.get("effect") == c.name and "after" in r), None) for c in pair}
+    results = {c.name: recalibrated(shrink, c.name) for c in pair}
     if any(r is None for r in results.values()):
         return []
     say(f"{first.name} and {second.name} each undecided alone: recalibrating them together")
