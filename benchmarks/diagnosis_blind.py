@@ -1996,6 +1996,29 @@ def forty_third_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_fourth_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-fourth blind set (issue 14), written and committed before any of it ran, with
+    session 47's rule on (where nothing is claimed, a physical effect past chance at half the
+    significance and at least half the shrink threshold is claimed modestly). Seeds 4601-4608; the
+    rule's ground and its risk: effects that move the switching instants (start-up lag, minimum
+    run and off times), alone and in pairs, strengths and seasons chosen afresh; three null
+    cases (a modest threshold is where chance claims would come from)."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(w2w, "start_up_lag", strength={"tauStartUp": 650.0}, seed=4601, seasons=WINTER),
+        B(w2w, "cycling", strength={"tCycMinRun": 1200.0, "tCycMinOff": 1800.0}, seed=4602, seasons=MIXED),
+        B(w2w, "cycling", strength={"tCycMinRun": 2400.0, "tCycMinOff": 900.0}, also=("start_up_lag",), seed=4603, seasons=AUTUMN),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 350.0}, also=("heat_loss",), seed=4604, seasons=MIXED),
+        B(air, "start_up_lag", strength={"tauStartUp": 250.0}, also=("cycling",), seed=4605, seasons=WINTER),
+        # null cases
+        B(air, None, seed=4606, seasons=MIXED),
+        B(w2w, None, seed=4607, seasons=WINTER),
+        B(w2w, None, seed=4608, seasons=AUTUMN, resolution=300.0),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2030,7 +2053,7 @@ BLIND_SETS = {
     "thirty_sixth": thirty_sixth_cases, "thirty_seventh": thirty_seventh_cases,
     "thirty_eighth": thirty_eighth_cases, "thirty_ninth": thirty_ninth_cases,
     "fortieth": fortieth_cases, "forty_first": forty_first_cases,
-    "forty_second": forty_second_cases, "forty_third": forty_third_cases,
+    "forty_second": forty_second_cases, "forty_third": forty_third_cases, "forty_fourth": forty_fourth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 

@@ -47,6 +47,12 @@ it is, at one screened setting, to earn a recalibration beyond the budget when n
 significant effect removes more (see :func:`simgap.diagnosis.run.recalibration_choice`)."""
 
 
+MODEST = 0.5
+"""The modest threshold, as a fraction of the confirmation threshold (``diagnose: min_shrink``):
+where nothing else is claimed, a physical effect past chance at half the significance may be
+claimed from this shrink beyond re-tuning alone (:func:`simgap.diagnosis.run.modest_claim`)."""
+
+
 TRAINING_AT_LEAST = 0.5
 """A claim also needs the effect to have fitted the training data better than re-tuning alone by
 this fraction of the confirmation threshold (``diagnose: min_shrink``). Chosen on the stored
@@ -103,6 +109,10 @@ class Candidate:
     """Confirmed beside the round's best effect, but the next round, diagnosing the model
     recalibrated with the best, did not claim it (:func:`simgap.diagnosis.run.unconfirmed_next`):
     not claimed."""
+    modest: bool = False
+    """Claimed at the modest threshold (:func:`simgap.diagnosis.run.modest_claim`): nothing else
+    was, and its shrink beyond re-tuning alone, under the confirmation threshold but at least
+    ``MODEST`` of it, passed every other test at half the significance."""
     min_shrink: float = 0.0
     judged_on: dict[str, float] = field(default_factory=dict)
     """A reading error's weights per target once recalibrated, by how far the recalibration moved
@@ -304,6 +314,7 @@ class Candidate:
             "together_shrink": self.together_shrink,
             "together_p": self.together_p,
             "unconfirmed_next": self.unconfirmed_next,
+            "modest": self.modest,
             "first": self.first,
             "claimed": self.claimed,
             "within_noise": self.within_noise,

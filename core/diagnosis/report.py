@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .context import ROLES, Context
-from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, REOPENS_AT_MOST
+from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, MODEST, REOPENS_AT_MOST
 from .shrink import within_noise
 from .where import gap_warning, holds_more_error, rolling_error, worst_windows
 
@@ -201,6 +201,10 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
                          f"p = {claimed[0].together_p:.2g}; each adds {min(claimed[0].beyond_first, partner.beyond_first if partner else 1.0):.0%} "
                          "or more on top of the other alone)")
             claimed = [claimed[0]] + [c for c in claimed[1:] if c is not partner]
+        elif claimed[0].modest:
+            c = claimed[0]
+            parts.append(f"most likely unmodelled effect, modestly: {c.name} ({beyond(c)}, under the {c.min_shrink / MODEST:.0%} "
+                         f"a claim needs, but past chance, p = {c.p_vs_control:.2g}, and nothing else claimed)")
         else:
             parts.append(f"most likely unmodelled effect: {claimed[0].name}{shrink(claimed[0])}")
         if claimed[0].at_bounds:
@@ -509,6 +513,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"physics, was recalibrated in its place and lost to the claim is recalibrated too. Where nothing is claimed and two "
               f"physical effects are each undecided (past the shrink threshold, not past chance), they are recalibrated together and "
               f"both claimed if each adds the threshold on top of the other alone and the pair beats re-tuning beyond chance. "
+              f"Where still nothing is claimed, the physical effect (not a reading error) that shrank the gap beyond re-tuning by "
+              f"at least {MODEST * ctx.config.min_shrink:.0%} and passed every other test at half the p-value and not at the "
+              f"bounds of its ranges is claimed modestly (a switching effect's search often stops short of its fit). "
               f"The rank orders recalibrated effects by their shrink, then the rest by share. *As simulated* is the most "
               f"that one screened setting's simulated change removes of a target's residual as it is (— where the effect "
               f"cannot be simulated on this model).", ""]
@@ -538,7 +545,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             shrunk += f"; re-tuning {tuner} reproduces {_pct(share)} of its change of {target}"
         lines.append(
             f"| {rank} | {c.name} | {c.share:.1%} | {c.p_value:.2g} | {_pct(c.as_simulated) if c.addition is not None else '—'} | {per} | {'yes' if c.significant else 'no'} | {shrunk} | "
-            f"{'**yes**' if c.claimed else ('no (not by the next round)' if c.unconfirmed_next else 'no')} | {c.description} |"
+            f"{('**yes** (modestly)' if c.modest else '**yes**') if c.claimed else ('no (not by the next round)' if c.unconfirmed_next else 'no')} | {c.description} |"
         )
     present = [c for c in candidates if c.in_model]
     if present:

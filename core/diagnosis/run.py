@@ -11,7 +11,7 @@ from pathlib import Path
 from ..errors import PluginError
 from ..plugin_host import get_registry
 from .context import build_context
-from .ranking import AS_SIMULATED_SLOT, REOPENS_AT_MOST, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
+from .ranking import AS_SIMULATED_SLOT, MODEST, REOPENS_AT_MOST, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import caveats, control_gap_shrink, noise_gaps, verdict, write
 from ..interfaces import EffectAddition
 from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, improvement_p_value, recalibrate, weak_end,
@@ -577,6 +577,39 @@ def claimed_together(pair: tuple[Candidate, Candidate], beyond: tuple[float, flo
             and all(b is not None and b >= c.min_shrink for c, b in zip(pair, beyond)))
 
 
+def modest_claim(candidates: list[Candidate]) -> Candidate | None:
+    """Where a round claims nothing, the physical effect that shrank the gap beyond re-tuning
+    alone by at least ``MODEST`` of the confirmation threshold, past chance at half the
+    significance, and passed every other test of a claim at that threshold (better where it was
+    fitted, no target re-opened, not at the bounds of its ranges) is claimed, modestly; the best
+    such one only. Marks it (``Candidate.modest``) and returns it, else None.
+
+    An effect whose parameters move the switching instants (a start-up lag, minimum run and off
+    times) is found by a search that often stops short of the truth's fit, and its shrink beyond
+    re-tuning then falls under the threshold though it is no chance: on the stored blind cases
+    of sets 37-43 at hand (not blind), the four no-claim rounds with a physical effect between 10 and
+    20 % beyond re-tuning at p <= 0.025 against it were each a withheld effect (a water-to-water
+    start-up lag of 800 s, 16 %; a cycling unit's minimum run and off times beside a start-up
+    lag, 14 %, and in round 2 beside a heat loss, 15 %; a start-up lag beside a post-run, 12 %),
+    and in no round of a null case. Reading errors stay out (an offset or a gain takes up a bit
+    of any misfit), as does a round whose calibration had not converged (it restarts from the
+    re-tuned solution). Chosen before the forty-fourth blind set."""
+    if any(c.claimed for c in candidates):
+        return None
+    eligible = [c for c in candidates
+                if c.applicable and not c.reading_error and c.addition is not None and c.gap_shrink is not None
+                and c.shrink_vs_control is not None and c.shrink_vs_control == c.shrink_vs_control
+                and c.p_vs_control is not None and not c.at_bounds and not c.within_noise and c.beyond_first is None and not c.together]
+    for cand in sorted(eligible, key=lambda c: -c.shrink_vs_control):
+        threshold, significance = cand.min_shrink, cand.confirm_significance
+        cand.min_shrink, cand.confirm_significance = MODEST * threshold, significance / 2
+        cand.modest = True
+        if cand.claimed and cand.shrink_vs_control < threshold:
+            return cand
+        cand.min_shrink, cand.confirm_significance, cand.modest = threshold, significance, False
+    return None
+
+
 def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder: Path, say) -> list[dict]:
     """The chain of confirmed effects, one per round: the model recalibrated with this round's
     best-confirmed effect is diagnosed again (that effect is then in the model and not screened
@@ -751,6 +784,10 @@ def diagnose(
     if chosen and not fitted:
         shrink += undecided_together(ctx, candidates, shrink, control, folder, say)
         candidates = confirm_order(candidates)
+        modest = None if unconverged(ctx, control) else modest_claim(candidates)
+        if modest is not None:
+            say(f"nothing claimed at the threshold; {modest.name} claimed modestly ({modest.shrink_vs_control:.0%} beyond "
+                f"re-tuning, p = {modest.p_vs_control:.2g})")
     if control is not None:
         shrink.insert(0, control)
     chain = further_effects(ctx, candidates, shrink, folder, say)
