@@ -2019,6 +2019,27 @@ def forty_fourth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_fifth_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-fifth blind set (issue 14), written and committed before any of it ran, with the
+    rules of the forty-fourth (the modest claim on). Seeds 4701-4708; the modest claim's risk
+    first: four null cases (twice the noise; 2 % of the rows lost; a tuner at its bound; two days
+    per season), then four single effects whose searches stop short, weaker settings than before."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(w2w, "start_up_lag", strength={"tauStartUp": 250.0}, seed=4701, seasons=AUTUMN),
+        B(w2w, "cycling", strength={"tCycMinRun": 900.0, "tCycMinOff": 1200.0, "plrCycMin": 0.3}, seed=4702, seasons=WINTER),
+        B(air, "start_up_lag", strength={"tauStartUp": 200.0}, seed=4703, seasons=MIXED),
+        B(air, "cycling", strength={"tCycMinRun": 900.0, "tCycMinOff": 600.0}, seed=4704, seasons=AUTUMN),
+        # null cases
+        B(air, None, seed=4705, seasons=WINTER, noise_scale=2.0),
+        B(w2w, None, seed=4706, seasons=MIXED, missing_fraction=0.02),
+        B(w2w, None, seed=4707, seasons=AUTUMN, truth={"dTGenSto": synth.MODELS[w2w].tuners["dTGenSto"].lower}),
+        B(air, None, seed=4708, seasons=AUTUMN, days=2),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2054,6 +2075,7 @@ BLIND_SETS = {
     "thirty_eighth": thirty_eighth_cases, "thirty_ninth": thirty_ninth_cases,
     "fortieth": fortieth_cases, "forty_first": forty_first_cases,
     "forty_second": forty_second_cases, "forty_third": forty_third_cases, "forty_fourth": forty_fourth_cases,
+    "forty_fifth": forty_fifth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
