@@ -2361,6 +2361,7 @@ def table(results: list[dict]) -> str:
         rows += ["", "| cases with a claim | of them with a claim naming no withheld physics (the first or a further one, any round) | which |", "|---|---|---|",
                  f"| {len(beside)} | **{len(named)}** | {'; '.join(named) or '–'} |"]
     rows += shortfall_rows(effects + several)
+    rows += reading_error_rows(effects + several)
     return "\n".join(rows)
 
 
@@ -2397,6 +2398,62 @@ def shortfall_rows(results: list[dict]) -> list[str]:
     if every:
         rows.append(f"| (every withheld effect claimed: the lowest training error any search reached / the truth's, median) | {len(every)} cases | {_median(every):.2f} |")
     return rows
+
+
+def reading_error_rows(results: list[dict]) -> list[str]:
+    """Each withheld reading error (a sensor's offset or gain, lag, clock shift, an input's
+    gain) a case missed, by why, read from its stored diagnosis of every round (the best round
+    for it: its largest shrink beyond re-tuning): claimed beside the best in round 1 and
+    withdrawn because round 2 did not claim it; never recalibrated in any round; recalibrated
+    beside a claim and adding under the threshold on top of it (the claim explains the same
+    misfit); recalibrated with a tuner that makes most of its change on the reading it moved
+    (taken up by the tuner: the data hardly tell the two apart); else under the threshold or
+    not past chance. Cases whose diagnosis folders are no longer at hand are left out."""
+    from simgap.diagnosis.ranking import LIKE_RETUNING
+    from simgap.models.blind import SENSOR_EFFECTS, same_physics
+
+    kinds = {"claimed beside the best in round 1, not by round 2 (withdrawn)": [], "never recalibrated in any round": [],
+             "beside a claim, adding under the threshold on top of it": [],
+             "taken up by a tuner (re-tuning makes most of its change on its reading)": [],
+             "recalibrated, under the threshold or not past chance": []}
+    names, cases = list(kinds), 0
+    for r in results:
+        missed = [e for e in (r.get("withheld") or [r["effect"]]) if e in SENSOR_EFFECTS
+                  and not any(c in same_physics(e) for c in every_claim(r))]
+        report = Path(r["report"]) if r.get("report") else None
+        if report is None or not (report.parent / "diagnosis.json").is_file():
+            continue
+        cases += any(e in SENSOR_EFFECTS for e in (r.get("withheld") or [r["effect"]]))
+        rounds, folder = [], report.parent
+        while (folder / "diagnosis.json").is_file():
+            rounds.append(json.loads((folder / "diagnosis.json").read_text()))
+            folder = folder / "then"
+        for effect in missed:
+            found = [(i + 1, c) for i, d in enumerate(rounds) for c in d["ranking"] if c["name"] == effect]
+            tried = [(i, c) for i, c in found if c.get("gap_shrink") is not None and c.get("shrink_vs_control") is not None]
+            if any(c.get("unconfirmed_next") for _, c in found):
+                kind, said = names[0], ""
+            elif not tried:
+                kind, said = names[1], ""
+            else:
+                i, c = max(tried, key=lambda ic: ic[1]["shrink_vs_control"])
+                said = f" (round {i}, {c['shrink_vs_control']:.0%} beyond re-tuning"
+                per = c.get("per_target") or {}
+                judged = c.get("judged_on") or {}
+                reading = (max(judged, key=judged.get) if judged else max(per, key=lambda t: per[t].get("share", 0.0), default=None))
+                taken = (per.get(reading) or {}).get("reproduced_by_tuners", 0.0) if reading else 0.0
+                if c.get("beyond_first") is not None and c["beyond_first"] < c.get("min_shrink", 0.2):
+                    kind, said = names[2], said + f", {c['beyond_first']:.0%} on top of the claim)"
+                elif taken >= LIKE_RETUNING:
+                    kind, said = names[3], said + f"; {(per[reading].get('most_like') or 'a tuner')} makes {taken:.0%} of its change of {reading})"
+                else:
+                    kind, said = names[4], said + f", p = {c['p_vs_control']:.2g})"
+            kinds[kind].append(f"{r['case']}: {effect}{said}")
+    if not cases:
+        return []
+    rows = ["", f"| a withheld reading error not claimed (the same physics counted), of {cases} cases withholding one | effects | which |",
+            "|---|---|---|"]
+    return rows + [f"| {kind} | {len(these)} | {'; '.join(these) or '–'} |" for kind, these in kinds.items()]
 
 
 def _all_claimed(result: dict) -> bool:

@@ -175,6 +175,57 @@ def test_the_bench_tells_why_each_withheld_effect_was_missed():
     assert "sensor_lag" not in rows
 
 
+def test_the_table_sorts_a_missed_reading_error_by_why_from_the_stored_rounds(tmp_path):
+    """A pair's withheld reading error that no round claimed: withdrawn by round 2, never
+    recalibrated, explained already by the claim beside it, taken up by a tuner, or under the
+    threshold; read from each round's diagnosis.json (blind sets 42 and 43: four of their nine
+    pair misses were a thermometer's offset or a meter's gain)."""
+    import importlib.util
+    import json
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "diagnosis_blind.py"
+    spec = importlib.util.spec_from_file_location("diagnosis_blind", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+
+    def entry(name="sensor_offset_gain", beyond=None, **kw):
+        return {"name": name, "gap_shrink": beyond, "shrink_vs_control": beyond, "p_vs_control": 0.2 if beyond is not None else None,
+                "per_target": {"TSup_K": {"share": 0.3, "reproduced_by_tuners": kw.pop("taken", 0.1), "most_like": "THeaCurY2_K"}},
+                **kw}
+
+    def case(name, rounds, withheld=("post_run", "sensor_offset_gain"), claimed=("post_run",)):
+        folder = tmp_path / name / "diagnosis"
+        for ranking in rounds:
+            folder.mkdir(parents=True)
+            (folder / "diagnosis.json").write_text(json.dumps({"ranking": ranking}))
+            folder = folder / "then"
+        return {"case": name, "effect": "+".join(withheld), "withheld": list(withheld), "claimed": list(claimed),
+                "chain": list(claimed), "report": str(tmp_path / name / "diagnosis" / "report.md")}
+
+    rows = "\n".join(bench.reading_error_rows([
+        case("a", [[entry(beyond=0.3, unconfirmed_next=True)], [entry()]]),
+        case("b", [[entry()], [entry()]]),
+        case("c", [[entry(beyond=0.51, beyond_first=0.0)]]),
+        case("d", [[entry()], [entry(beyond=0.02, taken=0.97)]]),
+        case("e", [[entry(beyond=0.17)]]),
+        case("f", [[entry(beyond=0.4)]], claimed=("post_run", "sensor_offset_gain")),  # claimed: not missed
+        {"case": "g", "effect": "post_run+sensor_offset_gain", "withheld": ["post_run", "sensor_offset_gain"], "claimed": [],
+         "report": str(tmp_path / "gone" / "report.md")},  # folders not at hand: left out
+    ]))
+    lines = {line.split(" | ")[0].strip("| "): line for line in rows.splitlines()}
+    assert "of 6 cases withholding one" in rows
+    assert "| 1 | a: sensor_offset_gain |" in next(v for k, v in lines.items() if k.startswith("claimed beside the best"))
+    assert "| 1 | b: sensor_offset_gain |" in lines["never recalibrated in any round"]
+    assert "c: sensor_offset_gain (round 1, 51% beyond re-tuning, 0% on top of the claim)" in lines[
+        "beside a claim, adding under the threshold on top of it"]
+    assert "| 1 | d: sensor_offset_gain (round 2, 2% beyond re-tuning; THeaCurY2_K makes 97% of its change of TSup_K) |" in next(
+        v for k, v in lines.items() if k.startswith("taken up by a tuner"))
+    assert "| 1 | e: sensor_offset_gain (round 1, 17% beyond re-tuning, p = 0.2) |" in next(
+        v for k, v in lines.items() if k.startswith("recalibrated, under"))
+    assert "f:" not in rows and "g:" not in rows
+
+
 def test_a_pair_s_effect_counts_as_searched_only_beside_the_other(tmp_path):
     """The search's shortfall for one effect of a pair is read off the recalibrations that had
     the other withheld effect in the model too (added beside it, or switched on in the round's
