@@ -2040,6 +2040,28 @@ def forty_fifth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_sixth_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-sixth blind set (issue 14), written and committed before any of it ran, with the
+    rules of the forty-fourth (the modest claim on): pairs of model effects, measured afresh under
+    every rule so far. Seeds 4801-4808; six pairs, each with a switching effect (start-up lag,
+    cycling) or a post-run beside a heat or heater effect, strengths and seasons chosen afresh;
+    two null cases."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(air, "heat_loss", strength={"UALossCon": 30.0}, also=("start_up_lag",), seed=4801, seasons=MIXED),
+        B(air, "post_run", strength={"tPostRun": 800.0}, also=("cycling",), seed=4802, seasons=AUTUMN),
+        B(air, "backup_heater", also=("post_run",), seed=4803, seasons=WINTER),
+        B(w2w, "post_run", strength={"tPostRun": 1200.0}, also=("cycling",), seed=4804, seasons=MIXED),
+        B(w2w, "heat_loss", strength={"UALossGen": 350.0}, also=("start_up_lag",), seed=4805, seasons=WINTER),
+        B(w2w, "backup_heater", also=("start_up_lag",), seed=4806, seasons=WINTER),
+        # null cases
+        B(air, None, seed=4807, seasons=AUTUMN),
+        B(w2w, None, seed=4808, seasons=MIXED),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2075,7 +2097,7 @@ BLIND_SETS = {
     "thirty_eighth": thirty_eighth_cases, "thirty_ninth": thirty_ninth_cases,
     "fortieth": fortieth_cases, "forty_first": forty_first_cases,
     "forty_second": forty_second_cases, "forty_third": forty_third_cases, "forty_fourth": forty_fourth_cases,
-    "forty_fifth": forty_fifth_cases,
+    "forty_fifth": forty_fifth_cases, "forty_sixth": forty_sixth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
