@@ -726,6 +726,11 @@ def test_a_further_claim_stands_only_if_the_next_round_claims_it_too():
     heater, offset, post = case()
     assert unconfirmed_next([heater, post], chain) == [] and post.claimed
     assert unconfirmed_next([heater, offset], [{**chain[0], "next_round_claimed": ["post_run", "sensor_offset_gain"]}]) == []
+    # the next round found re-tuning alone within the noise and claimed nothing, but its own
+    # recalibration confirmed the further effect by every other test: it stands (blind case 4801)
+    heater, offset, post = case()
+    within = [{**chain[0], "next_round_claimed": [], "next_round_within_noise": ["post_run"]}]
+    assert unconfirmed_next([heater, post, offset], within) == [offset] and post.claimed
     # no further round ran: the round's claims stand
     heater, offset, post = case()
     assert unconfirmed_next([heater, offset], [{"round": 1, "effect": "backup_heater", "stopped": "the round limit"}]) == []

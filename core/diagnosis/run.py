@@ -647,8 +647,16 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
     except Exception as exc:  # a failed further round leaves this round's findings intact
         chain[-1]["further_error"] = f"{type(exc).__name__}: {exc}"
         return chain
-    for link in chain:  # what the next round claimed, its chain's and beside them (unconfirmed_next)
+    # what the next round claimed, its chain's and beside them (unconfirmed_next); and what it
+    # confirmed by every test but could not claim because re-tuning alone left every target within
+    # the noise: there the next round claims nothing at all, and its own test of the effect is
+    # the confirmation there is (blind case 4801, set 46: an air start-up lag confirmed 77 % on top
+    # of a heat loss, then 76 % beyond re-tuning of round 2's remainder, p = 1e-6, withdrawn)
+    within = {c.name for c in further.get("candidates") or [] if c.within_noise_only}
+    for link in chain:
         link["next_round_claimed"] = sorted(set(further.get("claimed") or []) | {l["effect"] for l in further["chain"]})
+        if within:
+            link["next_round_within_noise"] = sorted(within)
     if not further["chain"]:
         chain[-1]["stopped"] = "no further effect confirmed"
     for link in further["chain"]:
@@ -673,11 +681,14 @@ def unconfirmed_next(candidates: list[Candidate], chain: list[dict]) -> list[Can
     thermometer offset and meter gain beside a post-run (its heat loss then claimed in round 2)
     and beside a backup heater (its post-run), a clock shift beside a start-up lag and a sensor
     lag, an input gain beside a sensor lag and a post-run; the three the second round repeated
-    were all withheld (a post-run, a sensor lag, a start-up lag)."""
+    were all withheld (a post-run, a sensor lag, a start-up lag). Where the next round found
+    re-tuning alone within the noise on every target it claims nothing, and an effect its own
+    recalibration confirmed by every other test (``Candidate.within_noise_only``) counts as
+    confirmed by it."""
     if not chain or "next_round_claimed" not in chain[0]:
         return []
     best = {link["effect"] for link in chain if link.get("round") == 1}
-    again = set(chain[0]["next_round_claimed"])
+    again = set(chain[0]["next_round_claimed"]) | set(chain[0].get("next_round_within_noise") or [])
     out = [c for c in candidates if c.claimed and c.name not in best and c.name not in again]
     for c in out:
         c.unconfirmed_next = True
