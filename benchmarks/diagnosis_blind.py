@@ -2062,6 +2062,27 @@ def forty_sixth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_seventh_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-seventh blind set (issue 14), written and committed before any of it ran, with
+    session 47's rules on (the modest claim; a further claim confirmed by a next round within the
+    noise). Seeds 4901-4908; six pairs, strengths and seasons chosen afresh, each effect beside a
+    different partner than in the forty-sixth; two null cases."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(air, "heat_loss", strength={"UALossCon": 50.0}, also=("post_run",), seed=4901, seasons=AUTUMN),
+        B(air, "start_up_lag", strength={"tauStartUp": 350.0}, also=("backup_heater",), seed=4902, seasons=WINTER),
+        B(air, "cycling", strength={"tCycMinRun": 1500.0, "tCycMinOff": 900.0}, also=("heat_loss",), seed=4903, seasons=MIXED),
+        B(w2w, "cycling", strength={"tCycMinRun": 2000.0, "tCycMinOff": 1500.0}, also=("heat_loss",), seed=4904, seasons=WINTER),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 500.0}, also=("backup_heater",), seed=4905, seasons=MIXED),
+        B(w2w, "post_run", strength={"tPostRun": 900.0}, also=("heat_loss",), seed=4906, seasons=AUTUMN),
+        # null cases
+        B(air, None, seed=4907, seasons=WINTER, noise_scale=1.5),
+        B(w2w, None, seed=4908, seasons=AUTUMN),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2098,6 +2119,7 @@ BLIND_SETS = {
     "fortieth": fortieth_cases, "forty_first": forty_first_cases,
     "forty_second": forty_second_cases, "forty_third": forty_third_cases, "forty_fourth": forty_fourth_cases,
     "forty_fifth": forty_fifth_cases, "forty_sixth": forty_sixth_cases,
+    "forty_seventh": forty_seventh_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
