@@ -2083,6 +2083,27 @@ def forty_seventh_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_eighth_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-eighth blind set (issue 14), written and committed before any of it ran, with
+    session 47's rules on: the modest claim's ground again (its blind record was one right, one
+    wrong), water-to-water switching effects alone and beside another switching effect or a
+    post-run, strengths and seasons chosen afresh. Seeds 5001-5008; two null cases."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(w2w, "start_up_lag", strength={"tauStartUp": 400.0}, also=("cycling",), seed=5001, seasons=WINTER),
+        B(w2w, "cycling", strength={"tCycMinRun": 1000.0, "tCycMinOff": 2000.0}, also=("post_run",), seed=5002, seasons=AUTUMN),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 300.0}, also=("post_run",), seed=5003, seasons=MIXED),
+        B(w2w, "cycling", strength={"tCycMinRun": 1800.0, "tCycMinOff": 1800.0}, seed=5004, seasons=AUTUMN),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 550.0}, seed=5005, seasons=MIXED),
+        B(air, "start_up_lag", strength={"tauStartUp": 300.0}, also=("cycling",), seed=5006, seasons=AUTUMN),
+        # null cases
+        B(w2w, None, seed=5007, seasons=WINTER),
+        B(w2w, None, seed=5008, seasons=MIXED, noise_scale=1.5),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2119,7 +2140,7 @@ BLIND_SETS = {
     "fortieth": fortieth_cases, "forty_first": forty_first_cases,
     "forty_second": forty_second_cases, "forty_third": forty_third_cases, "forty_fourth": forty_fourth_cases,
     "forty_fifth": forty_fifth_cases, "forty_sixth": forty_sixth_cases,
-    "forty_seventh": forty_seventh_cases,
+    "forty_seventh": forty_seventh_cases, "forty_eighth": forty_eighth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
