@@ -9,7 +9,12 @@ on 2 cores) can be stopped and continued, and its table printed again without si
 ``--runs nsga2=RUN_DIR gp_front=RUN_DIR ...`` scores finished run folders instead (for a model too
 slow to run several seeds here: the EnergyPlus bungalow's shipped NSGA-II and gp_front workflows);
 the budgets are then the runs' own evaluation counts, and each optimiser's median is over its own
-runs (an optimiser may have more runs than the other).
+runs (an optimiser may have more runs than the other). Runs whose objectives differ (the hourly
+sibling of the bungalow workflow against the 5-minute ones) get a hypervolume table each. Then a
+table of every run's knee: its validation errors on the metrics all runs log (the 5-minute ones
+are logged by the hourly sibling too, objective: false), as a ratio to the first nsga2 run's knee
+(the acceptance: within 10 % of it on every error), and with ``--truth name=value ...`` how far
+its parameters lie from the values that made the data.
 
 Real runs (real FMU through fmpy, dask workers) of the shipped workflow with only the optimiser
 block changed. Hypervolume (moocore) of log10 objectives, normalised by the best and worst
@@ -82,21 +87,33 @@ def main(argv=None) -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--store", type=Path, help="keep each run's objectives here and reuse the ones already kept")
     parser.add_argument("--runs", nargs="+", metavar="OPTIMISER=RUN_DIR", help="score these finished runs instead of running")
+    parser.add_argument("--truth", nargs="+", default=[], metavar="PARAMETER=VALUE",
+                        help="with --runs: the parameters behind the data, to print each knee's distance from them")
     args = parser.parse_args(argv)
     print(f"load before {os.getloadavg()}", flush=True)
     runs = {"nsga2": [], "gp_front": []}
     cpu = []
     if args.runs:
+        loaded = []
         for item in args.runs:
             name, _, folder = item.partition("=")
             if name not in runs:
                 parser.error(f"--runs {item}: expected nsga2=RUN_DIR or gp_front=RUN_DIR")
-            runs[name].append(objectives_in_order(simgap.load_run(folder)))
-        args.nsga2_budget = min(len(F) for F in runs["nsga2"])
-        args.gp_budget = min(len(F) for F in runs["gp_front"])
+            loaded.append((name, simgap.load_run(folder)))
+        for objectives in dict.fromkeys(tuple(run.objective_names) for _, run in loaded):
+            group = {name: [objectives_in_order(run) for n, run in loaded if n == name and tuple(run.objective_names) == objectives]
+                     for name in runs}
+            if not all(group.values()):
+                print(f"\nobjectives {', '.join(objectives)}: runs of one optimiser only, no hypervolume comparison")
+                continue
+            args.nsga2_budget = min(len(F) for F in group["nsga2"])
+            args.gp_budget = min(len(F) for F in group["gp_front"])
+            print(f"\nobjectives {', '.join(objectives)}")
+            report(args, group, cpu)
+        knee_table(loaded, dict(item.split("=", 1) for item in args.truth))
     else:
         simulate_all(args, runs, cpu)
-    report(args, runs, cpu)
+        report(args, runs, cpu)
 
 
 def simulate_all(args, runs: dict, cpu: list) -> None:
@@ -154,6 +171,42 @@ def report(args, runs: dict, cpu: list) -> None:
     if cpu:
         print(f"gp_front client CPU per evaluation (fits + search + run loop), median {statistics.median(cpu):.3f} s")
     print(f"load after {os.getloadavg()}")
+
+
+def knee_table(loaded: list, truth: dict) -> None:
+    """Each run's knee: validation errors against the first nsga2 run's knee, and its parameters."""
+    knees = []
+    for name, run in loaded:
+        featured = run.summary.get("featured", {}).get("knee")
+        if featured is None or "validation" not in featured:
+            print(f"{run.dir}: no knee with validation errors (did the run finish?)")
+            continue
+        knees.append((name, run, featured))
+    if not knees:
+        return
+    reference = next((k for k in knees if k[0] == "nsga2"), knees[0])
+    common = [key for key in reference[2]["validation"] if all(key in k[2]["validation"] for k in knees)]
+    truth = {key: float(value) for key, value in truth.items()}
+    print(f"\nknees' validation errors on {', '.join(common)}, as ratios to the knee of {reference[1].dir.name} ({reference[0]}, "
+          f"{len(reference[1].evaluations)} simulations: " + ", ".join(f"{reference[2]['validation'][key]:.4g}" for key in common) + ")")
+    print("| optimiser | run | simulations | objectives | " + " | ".join(common) + " | within 10 % on all |"
+          + (" parameters against truth |" if truth else ""))
+    print("|---" * (len(common) + 5 + bool(truth)) + "|")
+    within = {}
+    for name, run, featured in knees:
+        ratios = [featured["validation"][key] / reference[2]["validation"][key] for key in common]
+        ok = all(r <= 1.10 for r in ratios)
+        if run is not reference[1]:
+            within.setdefault(name, []).append(ok)
+        deviation = ""
+        if truth:
+            deviation = " " + ", ".join(f"{key} {featured['parameters'][key] / value - 1:+.1%}" for key, value in truth.items()) + " |"
+        objectives = "hourly" if all("_1h" in o for o in run.objective_names) else ", ".join(run.objective_names)
+        print(f"| {name} | {run.dir.name} | {len(run.evaluations)} | {objectives} | "
+              + " | ".join(f"{featured['validation'][key]:.4g} ({r - 1:+.0%})" for key, r in zip(common, ratios))
+              + f" | {'yes' if ok else 'no'} |" + deviation)
+    for name, oks in within.items():
+        print(f"{name}: {sum(oks)} of {len(oks)} knees within 10 % of the reference knee on every validation error")
 
 
 if __name__ == "__main__":
