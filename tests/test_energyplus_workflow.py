@@ -18,13 +18,15 @@ WORKFLOW = REPO / "workflows" / "energyplus_bungalow.yaml"
 TRUTH = json.loads((REPO / "examples" / "energyplus" / "data" / "bungalow_truth.json").read_text())["truth"]
 
 
-def _workflow(tmp_path, evaluations: int, population: int) -> str:
-    text = absolutise(WORKFLOW.read_text(), WORKFLOW.parent)
+def _workflow(tmp_path, evaluations: int, population: int, source=WORKFLOW) -> str:
+    """``source`` with absolute paths, the budget, and NSGA-II's population (or gp_front's batch)."""
+    text = absolutise(source.read_text(), source.parent)
     text = text.replace("model: ../examples", f"model: {REPO}/examples")
     text = re.sub(r"budget: \{evaluations: \d+\}", f"budget: {{evaluations: {evaluations}}}", text)
     text = text.replace("options: {population: 24}", f"options: {{population: {population}}}")
+    text = text.replace("options: {batch: 8}", f"options: {{batch: {population}}}")
     text = re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M)
-    path = tmp_path / "bungalow.yaml"
+    path = tmp_path / source.name
     path.write_text(text)
     return str(path)
 
@@ -53,21 +55,10 @@ def test_calibration_recovers_the_known_values_within_5_percent(tmp_path):
 HOURLY = REPO / "benchmarks" / "energyplus_bungalow_hourly.yaml"  # the hourly study (docs/optimisers.md)
 
 
-def _hourly_workflow(tmp_path, evaluations: int, batch: int) -> str:
-    text = absolutise(HOURLY.read_text(), HOURLY.parent)
-    text = text.replace("model: ../examples", f"model: {REPO}/examples")
-    text = re.sub(r"budget: \{evaluations: \d+\}", f"budget: {{evaluations: {evaluations}}}", text)
-    text = text.replace("options: {batch: 8}", f"options: {{batch: {batch}}}")
-    text = re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M)
-    path = tmp_path / "bungalow_hourly.yaml"
-    path.write_text(text)
-    return str(path)
-
-
 def test_the_hourly_study_optimises_hourly_errors_and_logs_the_5_minute_ones_beside_them(tmp_path):
     """The study's objectives are hourly; the shipped workflow's 5-minute errors are logged for
     every evaluation and scored on validation, so the knees of both workflows compare."""
-    path = _hourly_workflow(tmp_path, evaluations=8, batch=4)
+    path = _workflow(tmp_path, evaluations=8, population=4, source=HOURLY)
     result = CliRunner().invoke(main, ["run", path, "--workers", "2"])
     assert result.exit_code == 0, result.output
     run = simgap.load_run(tmp_path / "runs")
