@@ -56,6 +56,23 @@ def test_same_seed_asks_the_same_points_in_the_unit_cube():
     assert not np.array_equal(first, _drive(2, budget=32, options=quick)[0])
 
 
+def test_lanes_share_the_batch_and_budget_and_each_learns_from_its_own_points_only():
+    """Two lanes: the batch and the budget split between them, each told exactly the rows of its
+    own points, their designs different, and the whole still deterministic for a seed."""
+    quick = {"batch": 8, "lanes": 2, "search_population": 24, "search_generations": 10}
+    asked, opt = _drive(5, budget=48, options=quick)
+    assert len(asked) == 48 and np.array_equal(asked, _drive(5, budget=48, options=quick)[0])
+    first, second = opt._lanes
+    assert len(first._X) == len(second._X) == 24 and first.options.batch == second.options.batch == 4
+    # each lane holds its own points and their values, nothing of the other's
+    for lane in (first, second):
+        assert np.allclose(lane._F, _zdt1(lane._X))
+    assert not np.isin(first._X.round(9), second._X.round(9)).all(axis=1).any()
+    assert not np.allclose(first._X[:4], second._X[:4])  # designs of their own seeds
+    with pytest.raises(simgap.ConfigError, match="at least lanes"):
+        GP_FRONT(GP_FRONT.Options(batch=2, lanes=3), _problem(3), seed=1, max_evaluations=12)
+
+
 def test_failed_evaluations_stay_out_of_the_fit_and_are_not_asked_again():
     """A third of the box fails (a crashing region), and the whole first batch fails too."""
     first_batch = {"seen": False}
@@ -121,14 +138,16 @@ def test_gp_front_gets_near_the_quickstart_optimum_where_nsga2_is_still_far(tmp_
 
 
 @pytest.mark.slow  # about 80 s on a loaded 2-core machine: two runs and a resume through the CLI
-def test_seeded_run_killed_with_sigkill_resumes_to_the_same_log(tmp_path):
+@pytest.mark.parametrize("lanes", [1, 2])
+def test_seeded_run_killed_with_sigkill_resumes_to_the_same_log(tmp_path, lanes):
     """The run loop resumes by replaying the log through a fresh optimiser: every later batch
-    must be the one the uninterrupted run asked."""
+    must be the one the uninterrupted run asked (with two lanes, each lane's too)."""
     from tests.test_resume import _cli, _logged_generation
     from tests.test_resume import _workflow as resume_workflow
 
     wf = resume_workflow(tmp_path / "project")
-    text = re.sub(r"^optimiser:\n(  .*\n)+", "optimiser:\n  plugin: gp_front\n  options: {batch: 8, search_population: 30, search_generations: 15}\n  seed: 5\n  budget: {evaluations: 72}\n", wf.read_text(), flags=re.M)
+    text = re.sub(r"^optimiser:\n(  .*\n)+", f"optimiser:\n  plugin: gp_front\n  options: {{batch: 8, lanes: {lanes}, search_population: 30, search_generations: 15}}\n"
+                  "  seed: 5\n  budget: {evaluations: 72}\n", wf.read_text(), flags=re.M)
     wf.write_text(text)
     whole = _cli("run", str(wf), "--workers", "2", "--out", str(tmp_path / "whole"), cwd=tmp_path)
     out, _ = whole.communicate(timeout=300)

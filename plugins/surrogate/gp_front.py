@@ -4,6 +4,13 @@ Each batch: fit one scikit-learn GaussianProcessRegressor per objective to every
 evaluation so far, let NSGA-II (pymoo) find the front of the surrogates' lower confidence bounds,
 then pick the batch from that front greedily by hypervolume improvement over the measured front
 (moocore), each pick added to the front at its predicted value so the batch spreads out.
+
+With ``lanes``, the batch is shared by that many independent searches, each with its own Latin
+hypercube, its own Gaussian processes fitted to its own points only, and its own share of the
+budget; the run's front is the union of theirs. Why: a search can settle on a plateau where a
+tuner has no effect, its processes sure the tuner is irrelevant (the EnergyPlus bungalow on
+hourly errors: 5 seeds of 10). Lanes that do not see each other's points fall there
+independently, so two miss the valley together far less often than one does.
 """
 
 from __future__ import annotations
@@ -31,6 +38,9 @@ class GaussianProcessFrontOptimiserOptions(simgap.PluginOptions):
     max_fit_points: int = Field(400, ge=10, description="largest training set per GP: the best points by front rank are kept")
     hyperparameter_points: int = Field(
         150, ge=10, description="the kernel's hyperparameters are fitted on at most this many points (the best by front rank); the GP then conditions on all of them"
+    )
+    lanes: int = Field(
+        1, ge=1, description="independent searches sharing each batch and the budget (own design, own surrogates); the front is their union"
     )
 
 
@@ -67,9 +77,35 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
         self._batches = 0
         self._kernels: list = []  # each objective's fitted kernel, the next fit's second start
         self.last_ask_cpu_seconds = 0.0
+        self._use_start = True  # the workflow's start values seed the design (the first lane only)
+        self._lanes = self._make_lanes() if options.lanes > 1 else []
+        self._lane_sizes: list[int] = []
+
+    def _make_lanes(self) -> list["GaussianProcessFrontOptimiser"]:
+        """The independent searches: batch and budget shared out, a seed of their own each."""
+        o = self.options
+        if o.batch < o.lanes:
+            raise simgap.ConfigError(f"optimiser.options: batch ({o.batch}) must be at least lanes ({o.lanes})")
+        lanes = []
+        for k in range(o.lanes):
+            share = lambda total: total // o.lanes + (k < total % o.lanes)  # noqa: E731
+            lane = GaussianProcessFrontOptimiser(
+                o.model_copy(update={"lanes": 1, "batch": share(o.batch), "initial": o.initial and max(2, share(o.initial))}),
+                self.problem, seed=self.seed + 7919 * k,
+                max_evaluations=share(self.max_evaluations) if self.max_evaluations else None,
+            )
+            lane._use_start = k == 0
+            lanes.append(lane)
+        return lanes
 
     # ---------------------------------------------------------------------------------------
     def ask(self) -> np.ndarray:
+        if self._lanes:
+            active = [lane for lane in self._lanes if not lane.done]
+            batches = [lane.ask() for lane in active]
+            self._lane_sizes = [(lane, len(X)) for lane, X in zip(active, batches)]
+            self.last_ask_cpu_seconds = sum(lane.last_ask_cpu_seconds for lane in active)
+            return np.vstack(batches) if batches else np.empty((0, self.problem.n_var))
         started = time.process_time()
         remaining = (self.max_evaluations - self._asked) if self.max_evaluations else None
         if len(self._X) < self._initial:
@@ -91,6 +127,12 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
         return X
 
     def tell(self, X, F, feasible) -> None:
+        if self._lanes:  # each lane is told the rows of its own points, in the order it asked them
+            start = 0
+            for lane, size in self._lane_sizes:
+                lane.tell(X[start : start + size], F[start : start + size], np.asarray(feasible)[start : start + size])
+                start += size
+            return
         feasible = np.asarray(feasible, dtype=bool) & np.isfinite(F).all(axis=1)
         self._X = np.vstack([self._X, X])
         self._F = np.vstack([self._F, np.where(np.isfinite(F), F, np.nan)])
@@ -98,6 +140,8 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
 
     @property
     def done(self) -> bool:
+        if self._lanes:
+            return all(lane.done for lane in self._lanes)
         return bool(self.max_evaluations) and self._asked >= self.max_evaluations
 
     # ---------------------------------------------------------------------------------------
@@ -107,7 +151,7 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
         size = self._initial
         X = qmc.LatinHypercube(d=self.problem.n_var, seed=self.seed).random(size)
         x0 = self.problem.x0
-        if x0 is not None and np.isfinite(x0).any():
+        if self._use_start and x0 is not None and np.isfinite(x0).any():
             X[0] = np.where(np.isfinite(x0), x0, X[0])
         return X
 
