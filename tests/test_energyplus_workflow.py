@@ -24,7 +24,7 @@ def _workflow(tmp_path, evaluations: int, population: int, source=WORKFLOW) -> s
     text = text.replace("model: ../examples", f"model: {REPO}/examples")
     text = re.sub(r"budget: \{evaluations: \d+\}", f"budget: {{evaluations: {evaluations}}}", text)
     text = text.replace("options: {population: 24}", f"options: {{population: {population}}}")
-    text = text.replace("options: {batch: 8}", f"options: {{batch: {population}}}")
+    text = text.replace("options: {batch: 8", f"options: {{batch: {population}")
     text = re.sub(r"^output:.*$", f"output: {tmp_path / 'runs'}", text, flags=re.M)
     path = tmp_path / source.name
     path.write_text(text)
@@ -52,11 +52,11 @@ def test_calibration_recovers_the_known_values_within_5_percent(tmp_path):
         assert value == pytest.approx(TRUTH[name], rel=0.05), (name, value, TRUTH[name])
 
 
-HOURLY = REPO / "benchmarks" / "energyplus_bungalow_hourly.yaml"  # the hourly study (docs/optimisers.md)
+HOURLY = REPO / "workflows" / "energyplus_bungalow_surrogate_hourly.yaml"
 
 
-def test_the_hourly_study_optimises_hourly_errors_and_logs_the_5_minute_ones_beside_them(tmp_path):
-    """The study's objectives are hourly; the shipped workflow's 5-minute errors are logged for
+def test_the_hourly_sibling_optimises_hourly_errors_and_logs_the_5_minute_ones_beside_them(tmp_path):
+    """The sibling's objectives are hourly; the shipped workflow's 5-minute errors are logged for
     every evaluation and scored on validation, so the knees of both workflows compare."""
     path = _workflow(tmp_path, evaluations=8, population=4, source=HOURLY)
     result = CliRunner().invoke(main, ["run", path, "--workers", "2"])
