@@ -20,7 +20,7 @@ import time
 import warnings
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 import simgap
 
@@ -42,6 +42,12 @@ class GaussianProcessFrontOptimiserOptions(simgap.PluginOptions):
     lanes: int = Field(
         1, ge=1, description="independent searches sharing each batch and the budget (own design, own surrogates); the front is their union"
     )
+
+    @model_validator(mode="after")
+    def _a_point_per_lane(self):
+        if self.batch < self.lanes:
+            raise ValueError(f"batch ({self.batch}) must be at least lanes ({self.lanes}): each lane asks a point per batch at least")
+        return self
 
 
 def _rank(F: np.ndarray) -> np.ndarray:
@@ -79,20 +85,21 @@ class GaussianProcessFrontOptimiser(simgap.Optimiser):
         self.last_ask_cpu_seconds = 0.0
         self._use_start = True  # the workflow's start values seed the design (the first lane only)
         self._lanes = self._make_lanes() if options.lanes > 1 else []
-        self._lane_sizes: list[int] = []
+        self._lane_sizes: list[tuple[GaussianProcessFrontOptimiser, int]] = []  # the last ask's rows per lane
 
     def _make_lanes(self) -> list["GaussianProcessFrontOptimiser"]:
         """The independent searches: batch and budget shared out, a seed of their own each."""
         o = self.options
-        if o.batch < o.lanes:
-            raise simgap.ConfigError(f"optimiser.options: batch ({o.batch}) must be at least lanes ({o.lanes})")
+
+        def share(total: int, k: int) -> int:  # lane k's part of total; the first lanes take the rest
+            return total // o.lanes + (k < total % o.lanes)
+
         lanes = []
         for k in range(o.lanes):
-            share = lambda total: total // o.lanes + (k < total % o.lanes)  # noqa: E731
             lane = GaussianProcessFrontOptimiser(
-                o.model_copy(update={"lanes": 1, "batch": share(o.batch), "initial": o.initial and max(2, share(o.initial))}),
+                o.model_copy(update={"lanes": 1, "batch": share(o.batch, k), "initial": o.initial and max(2, share(o.initial, k))}),
                 self.problem, seed=self.seed + 7919 * k,
-                max_evaluations=share(self.max_evaluations) if self.max_evaluations else None,
+                max_evaluations=share(self.max_evaluations, k) if self.max_evaluations else None,
             )
             lane._use_start = k == 0
             lanes.append(lane)
