@@ -183,7 +183,8 @@ def calibrate(prepared: Prepared, *, figures: str = "wait", **options) -> Path:
     The run folder is locked while the run writes it: a second writer is refused, naming the
     host and process that holds it. ``figures`` (simgap.figures): ``wait`` draws the plots and
     report.html before returning; ``background`` returns once the results are written and draws
-    them in a forked process (``simgap.figures.wait_for_figures`` waits for it).
+    them in a forked process (``simgap.figures.wait_for_figures`` waits for it); ``none`` writes
+    report.html without plots.
     """
     from .figures import FIGURES_MODES, write_figures
 

@@ -109,10 +109,11 @@ def main():
 @click.option("--out", type=click.Path(path_type=Path), help="output directory (a run folder is created inside)")
 @click.option("--resume", "resume_dir", type=click.Path(path_type=Path), metavar="DIR",
               help="continue the interrupted run (or grid) in DIR, with the workflow copy it holds")
-@click.option("--figures", type=click.Choice(["background", "wait"]), default="background", show_default=True,
+@click.option("--figures", type=click.Choice(["background", "wait", "none"]), default="background", show_default=True,
               envvar="SIMGAP_FIGURES", show_envvar=True,
               help="draw the plots and report.html in a background process once the results are written "
-                   "(plots/figures.json appears when they are done), or before returning")
+                   "(plots/figures.json appears when they are done), or before returning, or no plots "
+                   "(report.html with the tables only)")
 def run(workflow, workers, scheduler, out, resume_dir, figures):
     """Calibrate the model of WORKFLOW; writes a run folder with the log, front, summary and plots.
 

@@ -22,7 +22,7 @@ import time
 import traceback
 from pathlib import Path
 
-FIGURES_MODES = ("background", "wait")
+FIGURES_MODES = ("background", "wait", "none")
 FIGURES_ENV = "SIMGAP_FIGURES"
 """The command line's ``--figures`` default comes from this variable when it is set."""
 DONE = Path("plots") / "figures.json"
@@ -30,10 +30,18 @@ DONE = Path("plots") / "figures.json"
 
 def write_figures(mode: str, run_dir: Path, frame, pareto, objectives, featured, series, identifiability_report, units) -> int | None:
     """Draw the run's figures now (``wait``) or in a forked background process (``background``,
-    where fork exists); returns the background process's PID, or None once they are drawn."""
+    where fork exists), or none of them (``none``: report.html is written without plots); returns
+    the background process's PID, or None once they are drawn."""
     if mode not in FIGURES_MODES:
         raise ValueError(f"figures: {mode!r} is not one of {', '.join(FIGURES_MODES)}")
     args = (Path(run_dir), frame, pareto, objectives, featured, series, identifiability_report, units)
+    if mode == "none":  # runs nobody looks at one by one (a diagnosis's recalibrations)
+        from .report import write_report
+
+        cpu0, wall0 = _cpu(), time.perf_counter()
+        write_report(args[0])
+        _record(args[0], "none", _cpu() - cpu0, time.perf_counter() - wall0, None)
+        return None
     if mode == "background" and hasattr(os, "fork"):
         return _draw_in_background(*args)
     cpu0, wall0 = _cpu(), time.perf_counter()

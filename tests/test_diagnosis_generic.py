@@ -156,10 +156,14 @@ def test_generic_effect_found_and_confirmed_on_the_quickstart_zone(tmp_path, eff
     if shift_s is not None:  # the shift itself found, not its range's bound
         found = abs(next(iter(derived["effect_parameters"].values())))
         assert abs(found - shift_s) < 0.1 * shift_s, derived["effect_parameters"]
-    # every recalibration, the control's too, searched with the same optimiser and budget
+    # every recalibration, the control's too, searched with the same optimiser and budget; its
+    # folder has the page with the tables and no plots (the diagnosis report draws its own)
     for recalibration in result["recalibration"]:
         optimiser = YAML().load(Path(recalibration["workflow"]).read_text())["optimiser"]
         assert optimiser["plugin"] == "gp_front" and optimiser["budget"] == {"evaluations": 48}, recalibration
+        folder = Path(recalibration["run"])
+        assert (folder / "report.html").is_file() and not list(folder.glob("plots/*.png")), folder
+    assert list(Path(result["report"]).parent.glob("figures/*.png"))
 
 
 def _shipped(folder: Path, name: str, evaluations: int, population: int) -> Path:

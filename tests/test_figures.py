@@ -66,6 +66,16 @@ def test_figures_wait_draws_them_before_returning(small_quickstart):
     assert "figures: being drawn" not in done.stdout
 
 
+def test_figures_none_writes_the_page_without_plots(small_quickstart):
+    done, run_dir = _run(small_quickstart, "none")
+    record = json.loads((run_dir / DONE).read_text())
+    assert record["mode"] == "none" and record["error"] is None
+    assert not list((run_dir / "plots").glob("*.png")), list((run_dir / "plots").iterdir())
+    page = (run_dir / "report.html").read_text(encoding="utf-8")
+    assert "data:image/png;base64," not in page and "<h2>Best solutions" in page
+    assert (run_dir / "pareto.parquet").is_file() and "figures: being drawn" not in done.stdout
+
+
 def test_a_bad_figures_mode_is_one_line(small_quickstart):
     done = subprocess.run([sys.executable, "-m", "simgap.cli", "run", str(small_quickstart), "--figures", "later"],
                           capture_output=True, text=True, timeout=120)

@@ -249,7 +249,10 @@ def recalibrate(
     try:
         path = derived_workflow(ctx, effect, addition, folder, start, read)
         prepared = prepare(path)
-        run_dir = calibrate(prepared, workers=ctx.config.recalibrate.workers)
+        # no plots of each recalibration: the diagnosis report draws its own, and the plots of
+        # eight or so recalibrations took about a third of a diagnosis's time (blind air-source
+        # case, 28 of 94 s); each folder keeps its report.html with the tables
+        run_dir = calibrate(prepared, workers=ctx.config.recalibrate.workers, figures="none")
     except Exception as exc:  # a failed recalibration is a finding, not a crash of the report
         out["error"] = f"{type(exc).__name__}: {exc}"
         return out
