@@ -250,8 +250,8 @@ def recalibrate(
         path = derived_workflow(ctx, effect, addition, folder, start, read)
         prepared = prepare(path)
         # no plots of each recalibration: the diagnosis report draws its own, and the plots of
-        # eight or so recalibrations took about a third of a diagnosis's time (blind air-source
-        # case, 28 of 94 s); each folder keeps its report.html with the tables
+        # eight or so recalibrations took about a fifth of a diagnosis's time (a blind
+        # air-source case: 94 s with them, 77 s without); each folder keeps its report.html
         run_dir = calibrate(prepared, workers=ctx.config.recalibrate.workers, figures="none")
     except Exception as exc:  # a failed recalibration is a finding, not a crash of the report
         out["error"] = f"{type(exc).__name__}: {exc}"
