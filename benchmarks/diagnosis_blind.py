@@ -35,7 +35,7 @@ import time
 from pathlib import Path
 
 from simgap.models import synth
-from simgap.models.blind import BlindCase, run_case
+from simgap.models.blind import ZONE, BlindCase, run_case
 
 
 def cases(models: list[str], quick: bool) -> list[BlindCase]:
@@ -46,6 +46,8 @@ def cases(models: list[str], quick: bool) -> list[BlindCase]:
     per model effect and a null case per model."""
     out: list[BlindCase] = []
     for model in models:
+        if model == ZONE:  # no switches: its cases are all generic (zone_cases)
+            continue
         effects = list(synth.MODELS[model].effects)
         for i, effect in enumerate(effects):
             out.append(BlindCase(model, effect, seed=1 + i))
@@ -57,7 +59,34 @@ def cases(models: list[str], quick: bool) -> list[BlindCase]:
             out.append(BlindCase(model, None, seed=8, noise_scale=2.0))
     if not quick:
         out += generic_and_null_cases(models)
-    return out
+    return out + zone_cases(models, quick)
+
+
+def zone_cases(models: list[str], quick: bool = False) -> list[BlindCase]:
+    """The quickstart zone (``blind.ZONE``), which has no effect switches: every generic effect
+    written onto its record, on each target or input, and four null cases (plain, twice the
+    noise, a tuner at its bound, pure noise); written and committed in session 51 before any of
+    them ran. Seeds 71-82 (each seed its own weather). ``quick``: a sensor lag, a clock shift
+    and the plain null case."""
+    if ZONE not in models:
+        return []
+    B = BlindCase
+    out = [
+        B(ZONE, "sensor_time_constant", lag={"T_zone_degC": 1500.0}, seed=71),
+        B(ZONE, "sensor_time_constant", lag={"P_el_W": 1200.0}, seed=72),
+        B(ZONE, "clock_shift", shift_s=1800.0, seed=73),
+        B(ZONE, "clock_shift", shift_s=-2400.0, seed=74),
+        B(ZONE, "sensor_offset_gain", sensor={"T_zone_degC": (0.4, 1.0)}, seed=75),
+        B(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 1.1)}, seed=76),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 1.3}, seed=77),
+        B(ZONE, "input_gain_error", input_gain={"u_hp": 0.9}, seed=78),
+        # null cases
+        B(ZONE, None, seed=79),
+        B(ZONE, None, seed=80, noise_scale=2.0),
+        B(ZONE, None, seed=81, truth={"eta_carnot": 0.65}),  # the quickstart's upper bound
+        B(ZONE, None, seed=82, scramble=True),
+    ]
+    return [out[0], out[2], out[8]] if quick else out
 
 
 def generic_and_null_cases(models: list[str]) -> list[BlindCase]:
@@ -2183,7 +2212,7 @@ BLIND_SETS = {
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--models", default="air_source_hp,water_to_water_hp")
+    parser.add_argument("--models", default=f"air_source_hp,water_to_water_hp,{ZONE}")
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--only", help="comma-separated effect names (and/or 'null')")
     parser.add_argument("--out", type=Path, help="folder for the cases (default: a temporary folder)")

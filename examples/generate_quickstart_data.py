@@ -90,8 +90,11 @@ def setpoint(t: float) -> float:
     return SETPOINT_DAY if DAY_FROM <= hour < DAY_UNTIL else SETPOINT_NIGHT
 
 
-def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray, q_sol: np.ndarray) -> pd.DataFrame:
-    """Step the FMU with the controller in the loop; noise-free outputs in kelvin and watts."""
+def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray, q_sol: np.ndarray,
+                         parameters: dict[str, float] | None = None) -> pd.DataFrame:
+    """Step the FMU with the controller in the loop; noise-free outputs in kelvin and watts.
+    ``parameters``: the plant's values (default TRUE_PARAMETERS)."""
+    parameters = dict(TRUE_PARAMETERS if parameters is None else parameters)
     from fmpy import extract
     from fmpy.fmi2 import FMU2Slave
     from fmpy.model_description import read_model_description
@@ -113,7 +116,7 @@ def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray, q_sol: np.ndarr
     try:
         fmu.instantiate()
         fmu.setupExperiment(startTime=0.0, stopTime=float(t[-1]))
-        fmu.setReal([vr[name] for name in TRUE_PARAMETERS], list(TRUE_PARAMETERS.values()))
+        fmu.setReal([vr[name] for name in parameters], list(parameters.values()))
         fmu.enterInitializationMode()
         fmu.setReal([vr["T_out"], vr["Q_sol"]], [t_out_degc[0] + KELVIN, q_sol[0]])
         fmu.exitInitializationMode()
@@ -141,15 +144,17 @@ def simulate_closed_loop(fmu_path: Path, t_out_degc: np.ndarray, q_sol: np.ndarr
     return pd.DataFrame({"time_s": t, "u_hp": u_hp, "T_zone_K": t_zone, "P_el_W": p_el})
 
 
-def measured_data(noise_scale: float = 1.0, seed: int = DEFAULT_SEED, fmu_path: Path | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """The CSV's frame and the noise-free closed-loop simulation behind it."""
+def measured_data(noise_scale: float = 1.0, seed: int = DEFAULT_SEED, fmu_path: Path | None = None,
+                  parameters: dict[str, float] | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The CSV's frame and the noise-free closed-loop simulation behind it (the plant with
+    ``parameters``, default TRUE_PARAMETERS)."""
     t_out = outdoor_temperature(seed)
     q_sol = solar_gains(seed)
     if fmu_path is None:
         with tempfile.TemporaryDirectory(prefix="simgap-quickstart-") as cache:
-            clean = simulate_closed_loop(_build(Path(cache)), t_out, q_sol)
+            clean = simulate_closed_loop(_build(Path(cache)), t_out, q_sol, parameters)
     else:
-        clean = simulate_closed_loop(fmu_path, t_out, q_sol)
+        clean = simulate_closed_loop(fmu_path, t_out, q_sol, parameters)
     rng = np.random.default_rng([seed, 1])
     n = len(clean)
     zone_noise = rng.normal(0.0, TEMPERATURE_NOISE * noise_scale, n)

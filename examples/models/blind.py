@@ -23,6 +23,8 @@ BLIND_TUNERS: dict[str, dict[str, float]] = {
     "air_source_hp": {"scaleHPQCon_nominal": 0.9, "scaleHPPEl_nominal": 0.85, "tauVolCon": 150.0},
     "water_to_water_hp": {"THeaCurY2_K": 302.15, "nInf_1_h": 0.12, "dTGenSto": 2.0},
     "brine_water_hp": {"etaCarnot_nominal": 0.4318, "PEle_nominal": 1884.2},
+    # the quickstart generator's plant (examples/generate_quickstart_data.py TRUE_PARAMETERS)
+    "quickstart_zone": {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45},
 }
 
 # Effect settings that make the effect show on this bench (the default cycling thermostat at
@@ -66,6 +68,19 @@ _WORKFLOW_SHAPE = {
     ),
 }
 
+
+ZONE = "quickstart_zone"
+"""The quickstart zone: a model with no effect switches, so only the generic effects around the
+simulator (a sensor's, a clock's, an input meter's) can be withheld from it. Its records come
+from the quickstart generator (closed-loop, three winter days at 10 min, weather from the seed);
+the base workflow is the shipped quickstart's with the bench's small budget."""
+
+_ZONE_SHAPE = dict(
+    # the measured file's columns of the targets (degC and W; the workflow converts)
+    columns={"T_zone": "T_zone_degC", "P_el": "P_el_W"},
+    # the generator's noise at scale 1: 0.05 K, and 1 % of a running unit's 1-3 kW
+    noise={"T_zone": 0.05, "P_el": 15.0},
+)
 
 SENSOR_EFFECTS = ("sensor_offset_gain", "sensor_time_constant", "clock_shift", "input_gain_error")
 """Withheld effects realised on the written data (a sensor's), not by a model switch."""
@@ -147,8 +162,10 @@ def withheld_trace(case: BlindCase, clean_file: Path | None = None) -> dict[str,
     shows. One noise-free simulation of the truth per withheld effect, a few seconds each, and
     one more unless ``clean_file`` (the case's ``measured.clean.parquet``) holds the record
     with all of them."""
-    shape = _WORKFLOW_SHAPE[case.model]
     effects = _model_effects(case)
+    if not effects:
+        return {}
+    shape = _WORKFLOW_SHAPE[case.model]
     truth = {**BLIND_TUNERS[case.model], **case.truth}
     noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
     step = float(case.resolution or shape["resolution"])
@@ -187,7 +204,7 @@ def input_gain_trace(case: BlindCase, folder: Path) -> dict[str, float]:
     from simgap.setup import prepare
 
     folder = Path(folder)
-    shape = _WORKFLOW_SHAPE[case.model]
+    shape = _ZONE_SHAPE if case.model == ZONE else _WORKFLOW_SHAPE[case.model]
     noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
     truth = {**BLIND_TUNERS[case.model], **case.truth}
     yaml = YAML()
@@ -225,6 +242,8 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     """Write the measured data and the base-model workflow of ``case``; returns the workflow path."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
+    if case.model == ZONE:
+        return _write_zone_case(case, folder)
     shape = _WORKFLOW_SHAPE[case.model]
     spec = synth.MODELS[case.model]
     truth = {**BLIND_TUNERS[case.model], **case.truth}
@@ -285,6 +304,60 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     yaml.default_flow_style = False
     yaml.dump(workflow, buffer)
     path.write_text(f"# blind case {case.label}\n" + buffer.getvalue())
+    return path
+
+
+def _quickstart_generator():
+    """examples/generate_quickstart_data.py as a module (it sits beside this package)."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "generate_quickstart_data.py"
+    spec = importlib.util.spec_from_file_location("generate_quickstart_data", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _write_zone_case(case: BlindCase, folder: Path) -> Path:
+    """``write_case`` for the quickstart zone: the generator's record for the case's seed (its
+    weather and noise) with the plant at the case's truth, the generic effect written onto it,
+    and the shipped quickstart workflow pointed at it with the bench's budget."""
+    import json
+
+    if _model_effects(case):
+        raise ValueError(f"{case.label}: the quickstart zone has no effect switches; only {', '.join(SENSOR_EFFECTS)} can be withheld")
+    generator = _quickstart_generator()
+    truth = {**BLIND_TUNERS[ZONE], **case.truth}
+    frame, clean = generator.measured_data(case.noise_scale, case.seed, parameters=truth)
+    clean.to_parquet(folder / "measured.clean.parquet")
+    if case.missing_fraction:
+        import numpy as np
+
+        rng = np.random.default_rng(case.seed + 2000)
+        lost = rng.random(len(frame)) < case.missing_fraction
+        lost[0] = False  # the first row starts the warm-up's initial state
+        frame = frame[~lost].reset_index(drop=True)
+    data = folder / "measured.parquet"
+    frame.to_parquet(data)
+    (folder / "measured.truth.json").write_text(json.dumps({"parameters": truth, "seed": case.seed, "noise_scale": case.noise_scale}))
+    if case.sensor or case.lag or case.shift_s or case.scramble or case.input_gain:
+        _rewrite(data, case, list(_ZONE_SHAPE["columns"].values()))
+    yaml = YAML()
+    shipped = Path(__file__).resolve().parents[2] / "workflows" / "quickstart.yaml"
+    doc = yaml.load(shipped.read_text())
+    doc["name"] = f"blind_{ZONE}"
+    doc["description"] = f"base model calibration for a blind diagnosis case ({case.label})"
+    doc["data"]["file"] = data.name
+    doc["simulator"]["options"]["source"] = str(Path(__file__).resolve().parent / "quickstart_zone")
+    doc["optimiser"] = {"plugin": "nsga2", "options": {"population": case.population}, "seed": case.seed,
+                        "budget": {"generations": case.generations}}
+    doc["output"] = "runs"
+    path = folder / "workflow.yaml"
+    buffer = io.StringIO()
+    yaml.dump(doc, buffer)
+    text = buffer.getvalue()
+    # the shipped file's opening comments describe its own data, not these
+    path.write_text(f"# blind case {case.label}\n" + text[text.index("name:"):])
     return path
 
 
