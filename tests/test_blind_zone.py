@@ -1,0 +1,48 @@
+"""The blind bench's quickstart-zone cases: the record the generator writes for a case, with the
+withheld generic effect on it and the plant at the case's truth, and a base workflow that loads.
+(The diagnosis on such records is tested in test_diagnosis_generic.py; the bench scores it.)"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+
+from simgap.models.blind import ZONE, BlindCase, write_case
+from simgap.setup import prepare
+
+
+def _frame(folder):
+    return pd.read_parquet(folder / "measured.parquet")
+
+
+def test_zone_cases_write_the_effect_onto_the_generators_record(tmp_path):
+    plain = write_case(BlindCase(ZONE, None, seed=5), tmp_path / "plain").parent
+    late = write_case(BlindCase(ZONE, "clock_shift", shift_s=1800.0, seed=5), tmp_path / "late").parent
+    gain = write_case(BlindCase(ZONE, "input_gain_error", input_gain={"u_hp": 0.9}, seed=5), tmp_path / "gain").parent
+    a, b, c = _frame(plain), _frame(late), _frame(gain)
+    # the same seed, the same weather and noise; the late clock shows each reading 3 rows on
+    for column in ("T_zone_degC", "P_el_W"):
+        assert np.allclose(b[column].to_numpy()[3:], a[column].to_numpy()[:-3])
+    assert np.array_equal(a["T_out_degC"], b["T_out_degC"])
+    # the logged compressor signal 10 % low; the plant (the targets) ran on the true one
+    assert np.allclose(c["u_hp"], 0.9 * a["u_hp"]) and np.array_equal(c["P_el_W"], a["P_el_W"])
+    prepared = prepare(late / "workflow.yaml")
+    try:
+        assert list(prepared.space.names) == ["C_zone", "UA_env", "UA_rad", "eta_carnot"]
+    finally:
+        prepared.simulator.close()
+    assert not (late / "workflow.yaml").read_text().splitlines()[1].startswith("# Quickstart")
+
+
+def test_zone_truth_at_a_bound_and_pure_noise(tmp_path):
+    bound = write_case(BlindCase(ZONE, None, seed=6, truth={"eta_carnot": 0.65}), tmp_path / "bound").parent
+    plain = write_case(BlindCase(ZONE, None, seed=6), tmp_path / "plain").parent
+    assert json.loads((bound / "measured.truth.json").read_text())["parameters"]["eta_carnot"] == 0.65
+    # a better heat pump draws less power for the same zone (closed loop: about the same heat)
+    assert _frame(bound)["P_el_W"].sum() < 0.85 * _frame(plain)["P_el_W"].sum()
+    noise = write_case(BlindCase(ZONE, None, seed=6, scramble=True), tmp_path / "noise").parent
+    t = _frame(noise)["T_zone_degC"].to_numpy()
+    # white noise: no autocorrelation left of the zone's hours-long response
+    assert abs(np.corrcoef(t[:-1], t[1:])[0, 1]) < 0.2
