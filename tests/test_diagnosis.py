@@ -272,6 +272,23 @@ def test_noise_floor_and_lag_and_cycles():
     t = np.arange(0, 20000.0, 10.0)
     smooth = np.sin(t / 900.0)
     assert noise_sigma(smooth + rng.normal(0, 0.05, len(t))) == pytest.approx(0.05, rel=0.15)
+    # a meter at exactly 0 while the unit is off (and the model's power 0 too) for 60 % of the
+    # record: the noise where it runs, weighted by the running share (the median alone said 0)
+    running = (t // 2000) % 5 < 2
+    power = np.where(running, 1500.0 * (1 + rng.normal(0, 0.01, len(t))), 0.0)
+    model = np.where(running, 1500.0, 0.0)
+    assert noise_sigma(power - model) == pytest.approx(15.0 * np.sqrt(running.mean()), rel=0.15)
+    assert noise_sigma(np.zeros(50)) == 0.0
+    # a meter whose noise is 1 % of its reading (500-3000 W): one median is the low readings'
+    # noise; grouped by the reading, the record's mean
+    load = np.where(running, 500.0 + 2500.0 * (0.5 + 0.5 * np.sin(t / 3000.0)), 0.0)
+    noisy = load * (1 + rng.normal(0, 0.01, len(t)))
+    true = float(np.sqrt(np.mean((noisy - load) ** 2)))
+    assert noise_sigma(noisy - load, noisy) == pytest.approx(true, rel=0.12)
+    assert noise_sigma(noisy - load) < 0.85 * true
+    # noise that does not depend on the reading: the same with the level as without
+    flat = smooth + rng.normal(0, 0.05, len(t))
+    assert noise_sigma(flat - smooth, flat) == pytest.approx(0.05, rel=0.15)
     lagged = np.sin((t - 60.0) / 900.0)  # the measurement 60 s late
     assert best_lag(lagged, smooth, t)["lag_s"] == pytest.approx(60.0, abs=10.0)
     state = ((t // 1200) % 2 == 1).astype(float)

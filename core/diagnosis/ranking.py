@@ -875,7 +875,7 @@ def unexplained_targets(ctx: Context) -> dict[str, str]:
         # record's p was 0.05 while the simulation explained 47 % of it beyond chance)
         residual = m[ok] - s[ok]
         rms = float(np.sqrt(np.mean(residual * residual)))
-        smooth = rms > 0 and noise_sigma(residual) < SMOOTH_RESIDUAL * rms
+        smooth = rms > 0 and noise_sigma(residual, m[ok]) < SMOOTH_RESIDUAL * rms
         if p > ctx.config.significance and observed - chance < ctx.config.min_share and not smooth:
             out[t] = (f"the simulation explains {max(observed - chance, 0.0):.0%} of the measured series beyond chance "
                       f"(p = {p:.2g}): the residual is the measurement itself, not a missing effect")

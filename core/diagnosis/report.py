@@ -622,7 +622,10 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
                       f"the confirmation threshold.", ""]
             continue
         vs = s.get("gap_shrink_vs_control")
-        lines += ["", f"Gap shrink (the error above the sensor-noise floor, weighted by where the effect's signature acts): "
+        # beside a confirmation on the training data, say which data these figures are (a
+        # validation figure near 0 read as the claim's own contradicted it)
+        where = "On the validation data, the gap shrink" if s.get("confirmed_on") == "training" else "Gap shrink"
+        lines += ["", f"{where} (the error above the sensor-noise floor, weighted by where the effect's signature acts): "
                   f"**{_pct(s['gap_shrink'])}**" + (f"; beyond re-tuning alone (the control): **{_pct(vs)}**" if vs is not None else "")
                   + ". The noise floor is estimated from sample-to-sample differences of the residual.", ""]
     if "before_after" in figs:
