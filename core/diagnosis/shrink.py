@@ -511,7 +511,7 @@ def noise_sigma(residual: np.ndarray, level: np.ndarray | None = None) -> float:
     if not moving.any():
         return 0.0
     squares = d[moving] ** 2
-    bins = min(4, int(moving.sum()) // 25) if level is not None else 1
+    bins = min(4, int(moving.sum()) // 10) if level is not None else 1  # ten differences a bin at least
     if bins > 1:
         reading = level[ok]
         at = (0.5 * (reading[:-1] + reading[1:]))[moving]
