@@ -16,7 +16,7 @@ Each case is diagnosed with the diagnosis's default rounds (``iterations``, 2), 
 a single-effect case that claims goes on to a second round, and the table lists every claim
 naming no withheld physics. (Sets up to 38 ran single-effect cases with one round only.)
 
-    python benchmarks/diagnosis_blind.py                 # the full table, 44 cases (about 1.5 h as two --shard processes)
+    python benchmarks/diagnosis_blind.py                 # the full table, 56 cases (about 2.5 h as two --shard processes)
     python benchmarks/diagnosis_blind.py --quick         # one case per effect and model + a null case each (about 9 min)
     python benchmarks/diagnosis_blind.py --models water_to_water_hp --out /tmp/blind
     python benchmarks/diagnosis_blind.py --fresh --shard 1/2   # the third blind set, half of it
