@@ -2169,6 +2169,26 @@ def forty_eighth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def forty_ninth_cases(models: list[str]) -> list[BlindCase]:
+    """A forty-ninth blind set (issue 14), written and committed in session 51 before any of it
+    ran, after the noise floor's change (exact zeros, reading bins) made on the zone's null case
+    79: the quickstart zone again, four null cases (plain, 1.5x the noise, `UA_env` at its lower
+    bound, 5 % lost rows) and four generic effects at settings its first set did not use.
+    Seeds 91-98."""
+    B = BlindCase
+    out = [
+        B(ZONE, None, seed=91),
+        B(ZONE, None, seed=92, noise_scale=1.5),
+        B(ZONE, None, seed=93, truth={"UA_env": 50.0}),  # the quickstart's lower bound
+        B(ZONE, None, seed=94, missing_fraction=0.05),
+        B(ZONE, "sensor_time_constant", lag={"T_zone_degC": 2000.0}, seed=95),
+        B(ZONE, "clock_shift", shift_s=900.0, seed=96),
+        B(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 0.9)}, seed=97),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 0.75}, seed=98),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2206,6 +2226,7 @@ BLIND_SETS = {
     "forty_second": forty_second_cases, "forty_third": forty_third_cases, "forty_fourth": forty_fourth_cases,
     "forty_fifth": forty_fifth_cases, "forty_sixth": forty_sixth_cases,
     "forty_seventh": forty_seventh_cases, "forty_eighth": forty_eighth_cases,
+    "forty_ninth": forty_ninth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
