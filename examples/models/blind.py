@@ -307,11 +307,21 @@ def write_case(case: BlindCase, folder: Path) -> Path:
     return path
 
 
+def _checkout_file(relative: str) -> Path:
+    """A file of the repository checkout, not of the package: beside this package when installed
+    editable (``examples/models``), else under the working directory (the checkout the bench and
+    the tests run from, with the package installed from it)."""
+    for root in (Path(__file__).resolve().parents[2], Path.cwd()):
+        if (root / relative).is_file():
+            return root / relative
+    raise FileNotFoundError(f"the quickstart zone's blind cases need {relative} of the simgap checkout: run from its folder")
+
+
 def _quickstart_generator():
-    """examples/generate_quickstart_data.py as a module (it sits beside this package)."""
+    """examples/generate_quickstart_data.py as a module (example code, not installed)."""
     import importlib.util
 
-    path = Path(__file__).resolve().parents[1] / "generate_quickstart_data.py"
+    path = _checkout_file("examples/generate_quickstart_data.py")
     spec = importlib.util.spec_from_file_location("generate_quickstart_data", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -343,7 +353,7 @@ def _write_zone_case(case: BlindCase, folder: Path) -> Path:
     if case.sensor or case.lag or case.shift_s or case.scramble or case.input_gain:
         _rewrite(data, case, list(_ZONE_SHAPE["columns"].values()))
     yaml = YAML()
-    shipped = Path(__file__).resolve().parents[2] / "workflows" / "quickstart.yaml"
+    shipped = _checkout_file("workflows/quickstart.yaml")
     doc = yaml.load(shipped.read_text())
     doc["name"] = f"blind_{ZONE}"
     doc["description"] = f"base model calibration for a blind diagnosis case ({case.label})"
