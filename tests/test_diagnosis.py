@@ -608,6 +608,8 @@ def test_null_case_claims_nothing_and_cli_errors(tmp_path):
     data = json.loads((run_dir / "diagnosis" / "diagnosis.json").read_text())
     assert not data["claimed"] and "most likely" not in verdict
     control = next((r for r in data["recalibration"] if r["effect"] == "control" and r.get("after")), None)
+    # re-tuning alone searched as many points as any effect's recalibration
+    assert control is None or control["evaluations"] >= max(r.get("evaluations", 0) for r in data["recalibration"])
     if control is not None and control["gap_shrink"] >= 0.2:
         as_calibrated = data.get("verdict_as_calibrated", verdict)
         assert f"re-tuning without any effect shrinks the validation gap by {control['gap_shrink']:.0%} or more" in as_calibrated, as_calibrated

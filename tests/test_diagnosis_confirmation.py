@@ -147,8 +147,7 @@ def test_a_recalibration_searching_more_tuners_gets_more_points_unless_a_budget_
     from simgap.diagnosis.shrink import recalibration_evaluations
 
     default = Budget()
-    # the control (the model's three tuners) keeps population x generations; an effect's
-    # recalibration over five tuners gets 32 points for each
+    # three tuners keep population x generations; a recalibration over five gets 32 points for each
     assert recalibration_evaluations(default, 3) == 96
     assert recalibration_evaluations(default, 5) == 160
     asked = DiagnoseConfig.model_validate({"recalibrate": {"population": 8, "generations": 2}})
@@ -158,3 +157,24 @@ def test_a_recalibration_searching_more_tuners_gets_more_points_unless_a_budget_
     assert recalibration_evaluations(again.recalibrate, 9) == 16
     both = Budget(population=8, generations=2, evaluations_per_tuner=10)
     assert recalibration_evaluations(both, 9) == 90
+
+
+def test_the_control_gets_the_budget_of_the_largest_recalibration_it_is_compared_with():
+    from simgap.diagnosis.context import Budget
+    from simgap.diagnosis.run import control_evaluations
+
+    def candidate(parameters, applicable=True):
+        addition = None if parameters is None else SimpleNamespace(parameters=tuple(range(parameters)))
+        return SimpleNamespace(addition=addition, applicable=applicable)
+
+    def ctx(budget, tuners):
+        return SimpleNamespace(config=SimpleNamespace(recalibrate=budget), prepared=SimpleNamespace(
+            wf=SimpleNamespace(model=SimpleNamespace(parameters=list(range(tuners))))))
+
+    # four tuners and an effect of three parameters: 32 x 7 points, not the 128 of the tuners
+    # alone; an effect the model cannot take (no addition, or not applicable) sets nothing
+    candidates = [candidate(1), candidate(3), candidate(None), candidate(6, applicable=False)]
+    assert control_evaluations(ctx(Budget(), 4), candidates) == 224
+    assert control_evaluations(ctx(Budget(), 4), []) == 128
+    # a budget asked for exactly stays exact
+    assert control_evaluations(ctx(Budget(population=8, generations=2, evaluations_per_tuner=0), 4), candidates) == 16

@@ -579,8 +579,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             continue
         if is_control:
             lines.append(
-                f"The same re-tuning (tuners narrowed around the solution, same budget) without an effect, so that what "
-                f"re-tuning alone gains is not credited to an effect; {s['evaluations']} evaluations, run `{Path(s['run']).name}`."
+                f"The same re-tuning (tuners narrowed around the solution, the budget of the largest recalibration below) "
+                f"without an effect, so that what re-tuning alone gains is not credited to an effect; {s['evaluations']} "
+                f"evaluations, run `{Path(s['run']).name}`."
             )
         else:
             lines.append(

@@ -14,8 +14,8 @@ from .context import build_context
 from .ranking import AS_SIMULATED_SLOT, MODEST, REOPENS_AT_MOST, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import caveats, control_gap_shrink, noise_gaps, verdict, write
 from ..interfaces import EffectAddition
-from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, improvement_p_value, recalibrate, weak_end,
-                     within_noise)
+from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, improvement_p_value, recalibrate,
+                     recalibration_evaluations, weak_end, within_noise)
 from .warmstart import better_start, local_fit
 from .where import analyse, gap_warning
 
@@ -738,9 +738,11 @@ def diagnose(
     if chosen:
         # the control: the same re-tuning without any effect, so a shrink that re-tuning alone
         # achieves is not credited to an effect
-        say(f"control recalibration without an effect ({_budget(ctx)})")
+        evaluations = control_evaluations(ctx, candidates)
+        say(f"control recalibration without an effect ({evaluations} evaluations, as many as the largest recalibration it is compared with)")
         none = EffectAddition(switch={}, parameters=())
-        control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance))
+        control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance),
+                              evaluations=evaluations)
         fitted = within_noise(control)
         if fitted:
             say(f"re-tuning alone fits every target to within the noise ({noise_gaps(fitted)}): no effect is claimed")
@@ -841,6 +843,14 @@ def diagnose(
     # the findings are the re-tuned solution's; this page keeps the screening as calibrated
     return {**again, "report": mine["report"], "json": mine["json"], "verdict": said, "restart": restart,
             "as_calibrated": {k: mine[k] for k in ("claimed", "ranking", "recalibration", "where")}}
+
+
+def control_evaluations(ctx, candidates: list[Candidate]) -> int:
+    """The control's budget: that of the largest recalibration this diagnosis may run (the
+    model's tuners and the effect with the most parameters among the addable ones), so an
+    effect is never credited with the extra points its own parameters bought the search."""
+    largest = max((len(c.addition.parameters) for c in candidates if c.applicable and c.addition is not None), default=0)
+    return recalibration_evaluations(ctx.config.recalibrate, len(ctx.prepared.wf.model.parameters) + largest)
 
 
 def unconverged(ctx, control: dict | None) -> bool:

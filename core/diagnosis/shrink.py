@@ -97,8 +97,12 @@ case 3807, whose record shows a 900-s minimum off time, ended its search at 60 s
 
 def recalibration_evaluations(budget, tuners: int) -> int:
     """Points a recalibration searching ``tuners`` tuners evaluates: population x generations,
-    or ``evaluations_per_tuner`` per tuner where that is more (the control, with the model's
-    tuners only, gets the same density of points, not the same count)."""
+    or ``evaluations_per_tuner`` per tuner where that is more. The control searches the model's
+    tuners only, but gets the count of the largest recalibration it is compared with
+    (``evaluations`` of :func:`recalibrate`), not the same density: on an unconverged base
+    the tuners keep improving with more points, and an effect's larger budget was credited to
+    the effect (a blind zone null case: the control's 128 points moved 0.147 -> 0.146 K, an
+    extra heat load's 192 reached 0.114 K and was claimed)."""
     return max(budget.population * budget.generations, budget.evaluations_per_tuner * tuners)
 
 
@@ -108,9 +112,10 @@ def read_window(value: float, lower: float, upper: float, log: bool) -> tuple[fl
 
 
 def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder: Path, start: dict[str, float] | None = None,
-                     read: dict[str, float] | None = None) -> Path:
+                     read: dict[str, float] | None = None, evaluations: int | None = None) -> Path:
     """The recalibration's workflow; ``start`` (any tuner or effect parameter) seeds it; ``read``
-    (effect parameters the record gave) narrows those to ``READ_WINDOW`` around the reading."""
+    (effect parameters the record gave) narrows those to ``READ_WINDOW`` around the reading;
+    ``evaluations``: at least this many points (default: :func:`recalibration_evaluations`)."""
     start, read = start or {}, read or {}
     wf = ctx.prepared.wf
     data = copy.deepcopy(wf.doc.data)
@@ -154,7 +159,7 @@ def derived_workflow(ctx: Context, effect: str, addition: EffectAddition, folder
         params.append(entry)
     data["parameters"] = params
     budget = ctx.config.recalibrate
-    evaluations = recalibration_evaluations(budget, len(params))
+    evaluations = max(recalibration_evaluations(budget, len(params)), evaluations or 0)
     if budget.optimiser == "nsga2":
         data["optimiser"] = {
             "plugin": "nsga2",
@@ -217,11 +222,13 @@ def recalibrate(
     ablate_only: tuple = (),
     reweigh=None,
     read: dict[str, float] | None = None,
+    evaluations: int | None = None,
 ) -> dict:
     """Run the derived calibration; return before/after validation errors and the shrink.
 
     ``read``: effect parameters the measured record gave, searched near the reading
-    (:func:`derived_workflow`).
+    (:func:`derived_workflow`). ``evaluations``: search at least this many points (the control:
+    as many as the largest recalibration it is compared with).
 
     ``reweigh`` (effect parameters as found -> weights, or None): weights read from where the
     search put the effect's parameters (``out["weights"]``). The front member, and the
@@ -247,7 +254,7 @@ def recalibrate(
     if read:
         out["read_from_record"] = dict(read)
     try:
-        path = derived_workflow(ctx, effect, addition, folder, start, read)
+        path = derived_workflow(ctx, effect, addition, folder, start, read, evaluations)
         prepared = prepare(path)
         # no plots of each recalibration: the diagnosis report draws its own, and the plots of
         # eight or so recalibrations took about a fifth of a diagnosis's time (a blind
