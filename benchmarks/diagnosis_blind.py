@@ -2189,6 +2189,33 @@ def forty_ninth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fiftieth_cases(models: list[str]) -> list[BlindCase]:
+    """A fiftieth blind set (issue 14), written and committed in session 52 before any of it ran,
+    after the control was given the budget of the largest recalibration it is compared with
+    (set 49's null case 91 had its claim from a control searched at 128 points against an
+    effect's 192): single effects of both heat pumps and the zone, model and generic, at
+    strengths and seasons chosen afresh, and four null cases (two of them noisier). Seeds
+    5101-5112."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(air, "heat_loss", strength={"UALossCon": 35.0}, seed=5101, seasons=AUTUMN),
+        B(air, "start_up_lag", strength={"tauStartUp": 450.0}, seed=5102, seasons=MIXED),
+        B(w2w, "post_run", strength={"tPostRun": 1000.0}, seed=5103, seasons=WINTER),
+        B(w2w, "cycling", strength={"tCycMinRun": 1200.0, "tCycMinOff": 1200.0}, seed=5104, seasons=MIXED),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (0.6, 1.0)}, seed=5105, seasons=WINTER),
+        B(w2w, "clock_shift", shift_s=1200.0, seed=5106, seasons=AUTUMN),
+        B(ZONE, "sensor_time_constant", lag={"T_zone_degC": 1200.0}, seed=5107),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 1.3}, seed=5108),
+        # null cases
+        B(air, None, seed=5109, seasons=WINTER),
+        B(w2w, None, seed=5110, seasons=AUTUMN, noise_scale=1.5),
+        B(ZONE, None, seed=5111),
+        B(ZONE, None, seed=5112, noise_scale=2.0),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2226,7 +2253,7 @@ BLIND_SETS = {
     "forty_second": forty_second_cases, "forty_third": forty_third_cases, "forty_fourth": forty_fourth_cases,
     "forty_fifth": forty_fifth_cases, "forty_sixth": forty_sixth_cases,
     "forty_seventh": forty_seventh_cases, "forty_eighth": forty_eighth_cases,
-    "forty_ninth": forty_ninth_cases,
+    "forty_ninth": forty_ninth_cases, "fiftieth": fiftieth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
