@@ -102,8 +102,8 @@ def recalibration_evaluations(budget, tuners: int) -> int:
     (``evaluations`` of :func:`recalibrate`), not the same density: on an unconverged base
     the tuners keep improving with more points, and an effect's larger budget was credited to
     the effect (a blind zone null case: the control's 128 points moved 0.147 -> 0.146 K, an
-    extra heat load's 192 reached 0.114 K and was claimed, with no way to tell
-how much of that was the effect and how much its 64 extra points)."""
+    extra heat load's 192 reached 0.114 K and was claimed, with no way to tell how much of
+    that was the effect and how much its 64 extra points)."""
     return max(budget.population * budget.generations, budget.evaluations_per_tuner * tuners)
 
 
