@@ -579,7 +579,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             continue
         if is_control:
             lines.append(
-                f"The same re-tuning (tuners narrowed around the solution, the budget of the largest recalibration below) "
+                f"The same re-tuning (tuners narrowed around the solution, the budget of the largest recalibration it is compared with) "
                 f"without an effect, so that what re-tuning alone gains is not credited to an effect; {s['evaluations']} "
                 f"evaluations, run `{Path(s['run']).name}`."
             )

@@ -848,7 +848,10 @@ def diagnose(
 def control_evaluations(ctx, candidates: list[Candidate]) -> int:
     """The control's budget: that of the largest recalibration this diagnosis may run (the
     model's tuners and the effect with the most parameters among the addable ones), so an
-    effect is never credited with the extra points its own parameters bought the search."""
+    effect is never credited with the extra points its own parameters bought the search (on an
+    unconverged base the tuners keep improving with more points: a blind zone null case's control
+    at 128 points moved 0.147 -> 0.146 K, an extra heat load at 192 reached 0.114 K and was
+    claimed, with no way to tell the effect from the points)."""
     largest = max((len(c.addition.parameters) for c in candidates if c.applicable and c.addition is not None), default=0)
     return recalibration_evaluations(ctx.config.recalibrate, len(ctx.prepared.wf.model.parameters) + largest)
 

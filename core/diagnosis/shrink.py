@@ -97,13 +97,8 @@ case 3807, whose record shows a 900-s minimum off time, ended its search at 60 s
 
 def recalibration_evaluations(budget, tuners: int) -> int:
     """Points a recalibration searching ``tuners`` tuners evaluates: population x generations,
-    or ``evaluations_per_tuner`` per tuner where that is more. The control searches the model's
-    tuners only, but gets the count of the largest recalibration it is compared with
-    (``evaluations`` of :func:`recalibrate`), not the same density: on an unconverged base
-    the tuners keep improving with more points, and an effect's larger budget was credited to
-    the effect (a blind zone null case: the control's 128 points moved 0.147 -> 0.146 K, an
-    extra heat load's 192 reached 0.114 K and was claimed, with no way to tell how much of
-    that was the effect and how much its 64 extra points)."""
+    or ``evaluations_per_tuner`` per tuner where that is more (the control gets the count of the
+    largest recalibration it is compared with: ``run.control_evaluations``)."""
     return max(budget.population * budget.generations, budget.evaluations_per_tuner * tuners)
 
 
