@@ -2216,6 +2216,34 @@ def fiftieth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fifty_first_cases(models: list[str]) -> list[BlindCase]:
+    """A fifty-first blind set (issue 14), written and committed in session 53 before any of it
+    ran, after the noise floor of a comparison became the smallest estimate of the residuals
+    compared (set 50's hourly water-to-water clock shift had its power misfit counted as noise):
+    timing and switching effects on hourly water-to-water records and coarser air records, where
+    a misfit jumps from one sample to the next, generic effects on the zone, and four null cases
+    at those resolutions, where a lower floor could turn noise into claims. Seeds 5201-5213."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(w2w, "clock_shift", shift_s=2400.0, seed=5201, seasons=WINTER),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1500.0}, seed=5202, seasons=MIXED),
+        B(w2w, "post_run", strength={"tPostRun": 1800.0}, seed=5203, seasons=AUTUMN),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 600.0}, seed=5204, seasons=WINTER),
+        B(w2w, "heat_loss", strength={"UALossGen": 400.0}, seed=5205, seasons=MIXED),
+        B(air, "clock_shift", shift_s=240.0, seed=5206, seasons=AUTUMN, resolution=300.0),
+        B(air, "post_run", strength={"tPostRun": 600.0}, seed=5207, seasons=WINTER, resolution=600.0),
+        B(ZONE, "clock_shift", shift_s=2700.0, seed=5208),
+        B(ZONE, "sensor_offset_gain", sensor={"T_zone_degC": (0.5, 1.0)}, seed=5209),
+        # null cases
+        B(w2w, None, seed=5210, seasons=WINTER),
+        B(w2w, None, seed=5211, seasons=MIXED, noise_scale=1.5),
+        B(air, None, seed=5212, seasons=AUTUMN, resolution=600.0),
+        B(ZONE, None, seed=5213),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2254,6 +2282,7 @@ BLIND_SETS = {
     "forty_fifth": forty_fifth_cases, "forty_sixth": forty_sixth_cases,
     "forty_seventh": forty_seventh_cases, "forty_eighth": forty_eighth_cases,
     "forty_ninth": forty_ninth_cases, "fiftieth": fiftieth_cases,
+    "fifty_first": fifty_first_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
