@@ -628,7 +628,9 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
         where = "On the validation data, the gap shrink" if s.get("confirmed_on") == "training" else "Gap shrink"
         lines += ["", f"{where} (the error above the sensor-noise floor, weighted by where the effect's signature acts): "
                   f"**{_pct(s['gap_shrink'])}**" + (f"; beyond re-tuning alone (the control): **{_pct(vs)}**" if vs is not None else "")
-                  + ". The noise floor is estimated from sample-to-sample differences of the residual.", ""]
+                  + ". The noise floor is estimated from sample-to-sample differences of the residual; beside re-tuning alone, "
+                  "the smallest of the diagnosed solution's, this run's and the control's counts (every residual holds the same "
+                  "measurement noise, a misfit only adds to it).", ""]
     if "before_after" in figs:
         lines += [f"![before and after]({figs['before_after']})", ""]
     return "\n".join(lines) + "\n"
