@@ -458,7 +458,7 @@ def beyond_control(mine: dict, control: dict, weights: dict) -> tuple[dict, floa
         c = control.get(t)
         if not c:
             continue
-        sigma = min(v.get("noise_before", math.inf), v["noise"], c["noise"])
+        sigma = min(v["noise"], c["noise"])  # each already the smaller of the diagnosed solution's and its own (_above_noise)
         gap_b2 = v["rmse_before"] ** 2 - sigma**2
         gap_c2 = max(c["rmse_after"] ** 2 - sigma**2, 0.0)
         gap_a2 = max(v["rmse_after"] ** 2 - sigma**2, 0.0)
