@@ -605,7 +605,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
                 lines.append(f"| {t} | {_fmt(v['rmse_before'])} | {_fmt(v['rmse_after'])} | {_fmt(v['noise'])} | {_pct(v['shrink'])} |")
         if is_control:
             lines += ["", f"Re-tuning alone shrinks the gap above the noise floor by {_pct(s['gap_shrink'])}."]
-            fitted = s["within_noise"] if "within_noise" in s else within_noise(s)  # as the diagnosis judged it (run.diagnose)
+            fitted = within_noise(s)
             if fitted:
                 lines += ["", "It fits every target to within the noise (the gap it leaves above the floor: "
                           + ", ".join(f"{t} {g:.2g} noise variances" for t, g in fitted.items())

@@ -743,16 +743,12 @@ def diagnose(
         none = EffectAddition(switch={}, parameters=())
         control = recalibrate(ctx, CONTROL, none, folder / "recalibration" / CONTROL, {}, start=local_fit(ctx, nuisance),
                               evaluations=evaluations)
-    _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
-    if control is not None:
-        # judged after the first pass: its residuals bound the noise more tightly than the
-        # control's alone (shrink.within_noise)
-        fitted = within_noise(control, shrink)
-        control["within_noise"] = fitted
+        fitted = within_noise(control)
         if fitted:
             say(f"re-tuning alone fits every target to within the noise ({noise_gaps(fitted)}): no effect is claimed")
             for cand in candidates:
                 cand.within_noise = dict(fitted)
+    _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
     # within the noise, no further recalibration can confirm anything: the first pass's shrinks
     # stay in the report, what more would cost is saved
     if (chosen and ctx.config.recalibrate.second_pass and not fitted

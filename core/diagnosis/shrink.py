@@ -476,17 +476,9 @@ many noise variances (squared error, RMSE² − σ² < σ²: an RMSE under √2 
 the noise (:func:`within_noise`)."""
 
 
-def within_noise(control: dict | None, others: list[dict] = ()) -> dict[str, float]:
+def within_noise(control: dict | None) -> dict[str, float]:
     """Per target, the validation gap the control (re-tuning without any effect) leaves above the
     noise floor, in noise variances, where every target's is below ``WITHIN_NOISE``; else empty.
-
-    The floor is the smallest estimate of the control's, the diagnosed solution's and ``others``'
-    residuals (the round's recalibrations; see :func:`beyond_control` for why the smallest):
-    the control's residual holds the misfit the control leaves, and on hourly data of a cycling
-    unit that misfit is not smooth. Blind case 4702 (water-to-water minimum run/off times, hourly)
-    read the power meter's noise at 735 W from the control's residual (RMSE 911 W) and called
-    it within the noise, while the cycling effect's residual read 195 W (RMSE 272 W), and the
-    cycling, 63 % beyond re-tuning, was not claimed.
 
     A model that re-tuning alone brings to within the noise on every reading explains the record:
     nothing is left for an effect to explain, and an effect that "shrinks" what is left fits the
@@ -497,11 +489,8 @@ def within_noise(control: dict | None, others: list[dict] = ()) -> dict[str, flo
     30-34 no other claim came from a control within the noise (chosen on those, not blind)."""
     gaps = {}
     for t, v in ((control or {}).get("above_noise") or {}).items():
-        sigma = v.get("noise")  # the smaller of the diagnosed solution's and the control's
+        sigma = v.get("noise")  # the smaller of the diagnosed solution's and the control's, as in beyond_control
         if not sigma or not math.isfinite(v.get("rmse_after", math.nan)):
-            return {}
-        sigma = min([sigma, *(o["above_noise"][t]["noise"] for o in others if (o.get("above_noise") or {}).get(t, {}).get("noise"))])
-        if not math.isfinite(sigma):
             return {}
         gaps[t] = v["rmse_after"] ** 2 / sigma**2 - 1.0
     return gaps if gaps and all(g < WITHIN_NOISE for g in gaps.values()) else {}
