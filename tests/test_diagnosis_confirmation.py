@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from simgap.diagnosis.ranking import switch_count_evidence, unexplained_targets
-from simgap.diagnosis.shrink import beyond_control, noise_sigma
+from simgap.diagnosis.shrink import beyond_control, gap_above_noise
 
 
 def _context(measured: dict, simulated: dict):
@@ -205,11 +205,7 @@ def test_the_noise_floor_of_a_comparison_is_the_smallest_estimate_of_the_residua
     control = hourly(power) * 0.98  # re-tuning alone barely helps
 
     def above(sim):
-        r_before, r_after = measured - diagnosed, measured - sim
-        sigma_before = noise_sigma(r_before, measured)
-        rmse = lambda r: float(np.sqrt(np.mean(r * r)))  # noqa: E731
-        return {"rmse_before": rmse(r_before), "rmse_after": rmse(r_after), "noise_before": sigma_before,
-                "noise": min(sigma_before, noise_sigma(r_after, measured))}
+        return gap_above_noise(measured, measured - diagnosed, measured - sim)
 
     effect, retuned = {"P": above(with_shift)}, {"P": above(control)}
     assert effect["P"]["noise_before"] > 0.8 * effect["P"]["rmse_before"] > 5 * 100.0  # the premise: misfit read as noise

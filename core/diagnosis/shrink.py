@@ -551,20 +551,22 @@ def _above_noise(ctx: Context, prepared, params: dict[str, float], kind: str = "
         rb = m - piece.simulated[t]
         ra = m - after_series[t]
         residuals[t] = ra
-        sigma_before = noise_sigma(rb, m)
-        sigma = min(sigma_before, noise_sigma(ra, m))
-        before = float(np.sqrt(np.nanmean(rb * rb)))
-        after = float(np.sqrt(np.nanmean(ra * ra)))
-        gap_b = math.sqrt(max(before**2 - sigma**2, 0.0))
-        gap_a = math.sqrt(max(after**2 - sigma**2, 0.0))
-        out[t] = {
-            "rmse_before": before,
-            "rmse_after": after,
-            "noise": sigma,
-            "noise_before": sigma_before,
-            "shrink": 1.0 - gap_a / gap_b if gap_b > 0 else math.nan,
-        }
+        out[t] = gap_above_noise(m, rb, ra)
     return out
+
+
+def gap_above_noise(measured: np.ndarray, before: np.ndarray, after: np.ndarray) -> dict[str, float]:
+    """One target's RMSE before and after (residuals ``before``, ``after`` of ``measured``), the
+    noise floor (the smaller of the two residuals' estimates, ``noise``; the first's alone,
+    ``noise_before``) and the shrink of the error above it."""
+    sigma_before = noise_sigma(before, measured)
+    sigma = min(sigma_before, noise_sigma(after, measured))
+    rmse_before = float(np.sqrt(np.nanmean(before * before)))
+    rmse_after = float(np.sqrt(np.nanmean(after * after)))
+    gap_b = math.sqrt(max(rmse_before**2 - sigma**2, 0.0))
+    gap_a = math.sqrt(max(rmse_after**2 - sigma**2, 0.0))
+    return {"rmse_before": rmse_before, "rmse_after": rmse_after, "noise": sigma, "noise_before": sigma_before,
+            "shrink": 1.0 - gap_a / gap_b if gap_b > 0 else math.nan}
 
 
 def gap_shrink(shrink: dict[str, float], weights: dict[str, float]) -> float:
