@@ -807,6 +807,9 @@ def test_where_nothing_is_claimed_a_physical_effect_past_chance_is_claimed_modes
     heater = cand("backup_heater", 0.6, 1e-5)
     lag, cycling = case()
     assert heater.claimed and modest_claim([heater, cycling]) is None and not cycling.claimed
+    # the re-tuned solution of an unconverged calibration (a restart): nothing modest either
+    lag, cycling = case()
+    assert modest_claim([lag, cycling], restarted=True) is None and not cycling.claimed and not cycling.modest
 
 
 def test_an_effect_no_better_on_the_training_data_it_was_fitted_to_is_not_claimed():

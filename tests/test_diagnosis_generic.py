@@ -383,6 +383,7 @@ def test_an_unconverged_calibration_is_diagnosed_again_from_the_re_tuned_solutio
     assert again["settings"]["restart_above"] == 1.0 and again["restart"] is None  # once only
     assert not (folder / "retuned" / "retuned").exists()
     top = json.loads((folder / "diagnosis.json").read_text())
+    assert again["restarted"] and not top["restarted"]  # no modest claim from the re-tuned solution
     assert top["claimed"] == again["claimed"] == result["claimed"]
     assert again["verdict"] in top["verdict"] and top["verdict_as_calibrated"] != top["verdict"]
     text = (folder / "report.md").read_text()

@@ -331,10 +331,11 @@ def control_gap_shrink(shrink: list[dict]) -> float | None:
 
 
 def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Path, timing: dict, chain: list[dict] | None = None,
-          restart: dict | None = None) -> Path:
+          restart: dict | None = None, restarted: bool = False) -> Path:
     """diagnosis.json and report.md in ``folder``. With ``restart`` (the calibration had not
     converged and the re-tuned solution was diagnosed too) the page opens with that diagnosis's
-    verdict; the rest of it is the screening of the solution as calibrated."""
+    verdict; the rest of it is the screening of the solution as calibrated. ``restarted``: this
+    is that re-tuned solution's diagnosis (no modest claim was allowed in it)."""
     folder.mkdir(parents=True, exist_ok=True)
     figs = figures(ctx, where, candidates, shrink, folder / "figures")
     claimed = [c for c in candidates if c.claimed]
@@ -355,6 +356,7 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "figures": figs,
         "chain": chain or [],
         "restart": restart,
+        "restarted": restarted,
     }
     if restart and restart.get("verdict") is not None:
         # the findings a reader acts on are the re-tuned solution's
@@ -515,7 +517,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"both claimed if each adds the threshold on top of the other alone and the pair beats re-tuning beyond chance. "
               f"Where still nothing is claimed, the physical effect (not a reading error) that shrank the gap beyond re-tuning by "
               f"at least {MODEST * ctx.config.min_shrink:.0%} and passed every other test at half the p-value and not at the "
-              f"bounds of its ranges is claimed modestly (a switching effect's search often stops short of its fit). "
+              f"bounds of its ranges is claimed modestly (a switching effect's search often stops short of its fit), "
+              f"except on an unconverged calibration or the re-tuned solution diagnosed after one. "
               f"The rank orders recalibrated effects by their shrink, then the rest by share. *As simulated* is the most "
               f"that one screened setting's simulated change removes of a target's residual as it is (— where the effect "
               f"cannot be simulated on this model).", ""]
