@@ -2244,6 +2244,33 @@ def fifty_first_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fifty_second_cases(models: list[str]) -> list[BlindCase]:
+    """A fifty-second blind set (issue 14), written and committed in session 55 before any of it
+    ran, after the restart's diagnosis of a re-tuned solution stopped making modest claims (set
+    51's zone null case 5213 was one): the quickstart zone, whose base calibrations most often
+    stop short and restart, with generic effects at settings no set used (where a right claim
+    could have come from a restart and now be lost) and null cases (where the guard should hold),
+    and the air source unit's generic effects and a null case. Seeds 5301-5312."""
+    B = BlindCase
+    air = "air_source_hp"
+    out = [
+        B(ZONE, "sensor_time_constant", lag={"T_zone_degC": 2500.0}, seed=5301),
+        B(ZONE, "clock_shift", shift_s=1800.0, seed=5302),
+        B(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 1.15)}, seed=5303),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 0.8}, seed=5304),
+        B(ZONE, "sensor_time_constant", lag={"P_el_W": 1800.0}, seed=5305),
+        B(ZONE, "sensor_offset_gain", sensor={"T_zone_degC": (-0.8, 1.0)}, seed=5306),
+        B(air, "clock_shift", shift_s=600.0, seed=5307, seasons=MIXED),
+        B(air, "sensor_time_constant", lag={"THCFlow_K": 450.0}, seed=5308, seasons=AUTUMN),
+        # null cases
+        B(ZONE, None, seed=5309),
+        B(ZONE, None, seed=5310, noise_scale=1.5),
+        B(ZONE, None, seed=5311, missing_fraction=0.05),
+        B(air, None, seed=5312, seasons=WINTER),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2282,7 +2309,7 @@ BLIND_SETS = {
     "forty_fifth": forty_fifth_cases, "forty_sixth": forty_sixth_cases,
     "forty_seventh": forty_seventh_cases, "forty_eighth": forty_eighth_cases,
     "forty_ninth": forty_ninth_cases, "fiftieth": fiftieth_cases,
-    "fifty_first": fifty_first_cases,
+    "fifty_first": fifty_first_cases, "fifty_second": fifty_second_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
