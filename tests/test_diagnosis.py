@@ -73,9 +73,19 @@ def test_improvement_over_the_control_is_tested_against_chance():
     # most of the misfit gone
     better = {"T": 0.3 * control["T"] + 0.1 * rng.normal(size=n)}
     assert improvement_p_value(better, control, {"T": 1.0}) < 0.01
-    # two targets: the best one counts, paid for by a factor of two
+    # two targets, the second left as it was: it costs nothing (until session 55 the best
+    # target's p was doubled, and a power meter's lag 92 % beyond re-tuning stayed undecided)
     both = improvement_p_value({**better, "P": control["T"]}, {**control, "P": control["T"]}, {"T": 1.0, "P": 1.0})
-    assert both == pytest.approx(2 * improvement_p_value(better, control, {"T": 1.0}))
+    assert both == pytest.approx(improvement_p_value(better, control, {"T": 1.0}))
+    # two targets each a little better: together more evidence than either alone
+    control2 = {"T": _ar1(n, 0.8, rng), "P": 50.0 * _ar1(n, 0.8, rng)}
+    slightly = {t: 0.85 * r + 0.05 * np.std(r) * rng.normal(size=n) for t, r in control2.items()}
+    alone = [improvement_p_value({t: slightly[t]}, {t: control2[t]}, {t: 1.0}) for t in control2]
+    assert improvement_p_value(slightly, control2, {"T": 1.0, "P": 1.0}) < min(alone)
+    # a target the effect does not act on (weight 0) is not tested, whatever its residuals
+    worse_p = {**better, "P": 3.0 * control["T"]}
+    assert improvement_p_value(worse_p, {**control, "P": control["T"]}, {"T": 1.0, "P": 0.0}) == pytest.approx(
+        improvement_p_value(better, control, {"T": 1.0}))
 
 
 def test_what_re_tuning_reproduces_of_an_effect():
