@@ -416,20 +416,18 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
     targets = weighted or [t for t in mine if t in control]
     if len({np.asarray(mine[t]).size for t in targets} | {np.asarray(control[t]).size for t in targets}) > 1:
         return math.nan  # residuals of different instants cannot be paired
-    total = None
+    shares = []
     for t in targets:
-        d = np.asarray(control[t], dtype=float) ** 2 - np.asarray(mine[t], dtype=float) ** 2
+        c = np.asarray(control[t], dtype=float)
+        d = c**2 - np.asarray(mine[t], dtype=float) ** 2
         finite = np.isfinite(d)
-        scale = float(np.mean(np.asarray(control[t], dtype=float)[finite] ** 2)) if finite.any() else 0.0
-        if scale <= 0.0:
-            continue
-        w = weights.get(t, 1.0) if weighted else 1.0
-        share = np.where(finite, d, np.nan) * (w / scale)
-        total = share if total is None else np.where(np.isfinite(total) & np.isfinite(share), total + share,
-                                                     np.where(np.isfinite(total), total, share))
-    if total is None:
+        scale = float(np.mean(c[finite] ** 2)) if finite.any() else 0.0
+        if scale > 0.0:
+            shares.append(np.where(finite, d, np.nan) * ((weights.get(t, 1.0) if weighted else 1.0) / scale))
+    if not shares:
         return math.nan
-    d = total[np.isfinite(total)]
+    stacked = np.vstack(shares)
+    d = np.nansum(stacked, axis=0)[np.isfinite(stacked).any(axis=0)]  # an instant counts where any target was read
     n = d.size
     if n < 3:
         return math.nan
