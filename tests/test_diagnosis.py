@@ -73,6 +73,11 @@ def test_improvement_over_the_control_is_tested_against_chance():
     # most of the misfit gone
     better = {"T": 0.3 * control["T"] + 0.1 * rng.normal(size=n)}
     assert improvement_p_value(better, control, {"T": 1.0}) < 0.01
+    # the same verdicts on absolute errors (session 56's alternative loss)
+    assert improvement_p_value(same, control, {"T": 1.0}, loss="absolute") > 0.05
+    assert improvement_p_value(better, control, {"T": 1.0}, loss="absolute") < 0.01
+    with pytest.raises(ValueError):
+        improvement_p_value(better, control, {"T": 1.0}, loss="cubic")
     # two targets, the second left as it was: it costs nothing (until session 55 the best
     # target's p was doubled, and a power meter's lag 92 % beyond re-tuning stayed undecided)
     both = improvement_p_value({**better, "P": control["T"]}, {**control, "P": control["T"]}, {"T": 1.0, "P": 1.0})
