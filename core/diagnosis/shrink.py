@@ -399,8 +399,8 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
     """How likely a recalibration's smaller weighted error than the control's is chance.
 
     Each target's loss difference, e_control² − e_effect² (or |e_control| − |e_effect|), as a
-    share of the control's mean squared (absolute) error on that target and weighted as :func:`gap_shrink` weighs it (the effect's
-    share of its residual), is summed over the targets at each instant; the sum is tested
+    share of the control's mean squared (absolute) error on that target and weighted as
+    :func:`gap_shrink` weighs it (the effect's share of its residual), is summed over the targets at each instant; the sum is tested
     one-sided for a positive mean with a Bartlett (Newey–West) long-run variance, so
     autocorrelated residuals do not count as independent evidence (the Diebold–Mariano test of
     forecast accuracy). A gap that shrinks by chance on a short record (a flexible effect fitting
@@ -412,11 +412,11 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
     beyond re-tuning, undecided at 2 × 0.031, the thermometer's p near one).
 
     ``loss="absolute"`` tests the absolute error instead of the squared error the shrink is
-    measured in (session 56; not yet the default: its paired blind set has not run): a timing error's misfit sits at the unit's
-    switching instants, so the squared-loss differences are a few large values among many near
-    zero, their mean small against their spread, and a clock shift that removed 98 % of the gap
-    beyond re-tuning stayed undecided at p = 0.069 (set 53, seed 5402; set 54's 5502: 99 %, p = 0.071). Absolute differences have
-    a lighter tail and the same sign wherever one model is better. The shrink itself is still
+    measured in (session 56; not yet the default: its paired blind set has not run). A timing
+    error's misfit sits at the unit's switching instants, so the squared-loss differences are a
+    few large values among many near zero, their mean small against their spread: a clock shift
+    that removed 98 % of the gap beyond re-tuning stayed undecided at p = 0.069 (set 53, seed
+    5402; set 54's 5502: 99 %, p = 0.071). Absolute differences have a lighter tail and the same sign wherever one model is better. The shrink itself is still
     the squared error's, so a claim needs both: enough of the squared gap removed, and an
     improvement that is not chance at every instant's scale.
     """
@@ -432,9 +432,10 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
     for t in targets:
         c = np.asarray(control[t], dtype=float)
         m = np.asarray(mine[t], dtype=float)
-        d = np.abs(c) - np.abs(m) if loss == "absolute" else c**2 - m**2
+        lc, lm = (np.abs(c), np.abs(m)) if loss == "absolute" else (c**2, m**2)
+        d = lc - lm
         finite = np.isfinite(d)
-        scale = float(np.mean(np.abs(c[finite]) if loss == "absolute" else c[finite] ** 2)) if finite.any() else 0.0
+        scale = float(np.mean(lc[finite])) if finite.any() else 0.0
         if scale > 0.0:
             shares.append(np.where(finite, d, np.nan) * ((weights.get(t, 1.0) if weighted else 1.0) / scale))
     if not shares:
