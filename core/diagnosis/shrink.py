@@ -400,8 +400,8 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
 
     Each target's loss difference, e_control² − e_effect² (or |e_control| − |e_effect|), as a
     share of the control's mean squared (absolute) error on that target and weighted as
-    :func:`gap_shrink` weighs it (the effect's share of its residual), is summed over the targets at each instant; the sum is tested
-    one-sided for a positive mean with a Bartlett (Newey–West) long-run variance, so
+    :func:`gap_shrink` weighs it (the effect's share of its residual), is summed over the targets
+    at each instant; the sum is tested one-sided for a positive mean with a Bartlett (Newey–West) long-run variance, so
     autocorrelated residuals do not count as independent evidence (the Diebold–Mariano test of
     forecast accuracy). A gap that shrinks by chance on a short record (a flexible effect fitting
     what the control's search missed) then does not confirm the effect.
@@ -416,8 +416,8 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
     error's misfit sits at the unit's switching instants, so the squared-loss differences are a
     few large values among many near zero, their mean small against their spread: a clock shift
     that removed 98 % of the gap beyond re-tuning stayed undecided at p = 0.069 (set 53, seed
-    5402; set 54's 5502: 99 %, p = 0.071). Absolute differences have a lighter tail and the same sign wherever one model is better. The shrink itself is still
-    the squared error's, so a claim needs both: enough of the squared gap removed, and an
+    5402; set 54's 5502: 99 %, p = 0.071). Absolute differences have a lighter tail and the same
+    sign wherever one model is better. The shrink itself is still the squared error's, so a claim needs both: enough of the squared gap removed, and an
     improvement that is not chance at every instant's scale.
     """
     if loss not in ("absolute", "squared"):
