@@ -2477,7 +2477,9 @@ def main() -> None:
                 continue
             else:  # another process has it, or no earlier run: leave it
                 continue
-            reuse = Path(json.loads(before.read_text())["report"]).parents[1]
+            # the earlier run inside THIS case folder: the stored report path is absolute, and a
+            # copy of the folder diagnosed again must not write into the folder it was copied from
+            reuse = folder / "runs" / Path(json.loads(before.read_text())["report"]).parents[1].name
         elif done.is_file():  # finished by an earlier or a parallel process with --out: scored once
             results.append(json.loads(done.read_text()))
             continue
