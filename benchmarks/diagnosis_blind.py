@@ -2324,6 +2324,29 @@ def fifty_fourth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fifty_fifth_cases(models: list[str]) -> list[BlindCase]:
+    """A fifty-fifth blind set (issue 14), written and committed in session 57 before any of it
+    ran: two effects withheld at once (no pair case had run since session 53), generic with
+    generic on the zone, generic with a model effect and model with model on both heat pumps,
+    at strengths and seasons chosen afresh; two null cases. Seeds 5601-5610."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(ZONE, "clock_shift", shift_s=1200.0, lag={"P_el_W": 1200.0}, seed=5601),
+        B(ZONE, "sensor_offset_gain", sensor={"T_zone_degC": (0.6, 1.0)}, input_gain={"Q_sol_W": 0.8}, seed=5602),
+        B(air, "heat_loss", shift_s=600.0, seed=5603, seasons=WINTER),
+        B(air, "cycling", lag={"THCFlow_K": 300.0}, seed=5604, seasons=AUTUMN),
+        B(w2w, "post_run", shift_s=1800.0, seed=5605, seasons=MIXED),
+        B(w2w, "heat_loss", sensor={"PEl_W": (0.0, 1.15)}, seed=5606, seasons=WINTER),
+        B(air, "start_up_lag", also=("backup_heater",), seed=5607, seasons=MIXED),
+        B(w2w, "cycling", also=("heat_loss",), seed=5608, seasons=AUTUMN),
+        # null cases
+        B(ZONE, None, seed=5609, noise_scale=1.5),
+        B(air, None, seed=5610, seasons=WINTER),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2363,7 +2386,7 @@ BLIND_SETS = {
     "forty_seventh": forty_seventh_cases, "forty_eighth": forty_eighth_cases,
     "forty_ninth": forty_ninth_cases, "fiftieth": fiftieth_cases,
     "fifty_first": fifty_first_cases, "fifty_second": fifty_second_cases,
-    "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases,
+    "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases, "fifty_fifth": fifty_fifth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
