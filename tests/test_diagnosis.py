@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from scipy.signal import lfilter
 
 import simgap
 from simgap.cli import main as cli
@@ -59,6 +60,24 @@ def test_shift_test_on_a_short_record():
     r = _ar1(n, 0.5, rng) + 0.8 * x
     share, chance, p, _ = shift_test(r - r.mean(), (x - x.mean())[:, None])
     assert p < 1.0 / 80 and p < 0.01
+
+
+def test_the_paired_test_widens_its_window_for_slowly_varying_differences():
+    from simgap.diagnosis.shrink import bartlett_bandwidth, improvement_p_value
+
+    rng = np.random.default_rng(57)
+    n = 576
+    # nearly independent differences keep a short window; hours-long correlation a long one
+    assert bartlett_bandwidth(rng.normal(size=n)) <= 3
+    slow = lfilter([1.0], [1.0, -0.95], rng.normal(size=n))
+    assert bartlett_bandwidth(slow - slow.mean()) >= 20
+    # two equally wrong models whose misfits vary slowly (AR(0.95)): at nominal 5 % the test
+    # must not find one better much more often than 5 % (a fixed n^(1/3) window: about 19 %)
+    false = 0
+    for _ in range(200):
+        noise, a, b = (lfilter([1.0], [1.0, -0.95], rng.normal(size=n)) for _ in range(3))
+        false += improvement_p_value({"T": noise + a}, {"T": noise + b}, {"T": 1.0}) < 0.05
+    assert false <= 24
 
 
 def test_improvement_over_the_control_is_tested_against_chance():
