@@ -401,7 +401,7 @@ def bartlett_bandwidth(x: np.ndarray) -> int:
 
     A fixed n^⅓ (5 lags on a day of 10-min samples) is short for loss differences that stay
     correlated for hours: a test of squared errors at nominal 5 % rejected an equally good model
-    in 23 % of AR(0.95) draws (n = 144), 17 % at n = 576, with this bandwidth in 15 % and 8 %
+    in 23 % of AR(0.95) draws (n = 144), 18 % at n = 576, with this bandwidth in 15 % and 8 %
     (absolute errors: 22 % and 16 %, then 15 % and 7 %). Where the
     differences are nearly independent (a clock shift's misfit at switching instants) the
     bandwidth stays short and the power is kept (session 57's probe)."""
