@@ -2347,6 +2347,32 @@ def fifty_fifth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fifty_sixth_cases(models: list[str]) -> list[BlindCase]:
+    """A fifty-sixth blind set (issue 14), written and committed in session 57 before any of it
+    ran and after the paired test's change it is to test (absolute errors over Andrews'
+    bandwidth): single effects of all three models, generic and model, at settings no set used,
+    and three null cases (a 5-min air record, a noisier water-to-water record, a zone record with
+    a tenth of its rows lost). Seeds 5701-5712."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 1.2)}, seed=5701),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 1.3}, seed=5702),
+        B(ZONE, "clock_shift", shift_s=600.0, seed=5703),
+        B(air, "heat_loss", seed=5704, seasons=AUTUMN),
+        B(air, "post_run", seed=5705, seasons=MIXED),
+        B(air, "sensor_time_constant", lag={"PEl_W": 600.0}, seed=5706, seasons=WINTER),
+        B(w2w, "backup_heater", seed=5707, seasons=WINTER),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.4, 1.0)}, seed=5708, seasons=MIXED),
+        B(w2w, "start_up_lag", strength={"tauStartUp": 700.0}, seed=5709, seasons=AUTUMN),
+        # null cases
+        B(air, None, seed=5710, seasons=AUTUMN, resolution=300.0),
+        B(w2w, None, seed=5711, seasons=MIXED, noise_scale=1.5),
+        B(ZONE, None, seed=5712, missing_fraction=0.1),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2386,7 +2412,7 @@ BLIND_SETS = {
     "forty_seventh": forty_seventh_cases, "forty_eighth": forty_eighth_cases,
     "forty_ninth": forty_ninth_cases, "fiftieth": fiftieth_cases,
     "fifty_first": fifty_first_cases, "fifty_second": fifty_second_cases,
-    "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases, "fifty_fifth": fifty_fifth_cases,
+    "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases, "fifty_fifth": fifty_fifth_cases, "fifty_sixth": fifty_sixth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
