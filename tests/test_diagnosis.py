@@ -92,7 +92,7 @@ def test_improvement_over_the_control_is_tested_against_chance():
     # most of the misfit gone
     better = {"T": 0.3 * control["T"] + 0.1 * rng.normal(size=n)}
     assert improvement_p_value(better, control, {"T": 1.0}) < 0.01
-    # the same verdicts on absolute errors (session 56's alternative loss)
+    # the same verdicts with the loss named (absolute, the default since session 57)
     assert improvement_p_value(same, control, {"T": 1.0}, loss="absolute") > 0.05
     assert improvement_p_value(better, control, {"T": 1.0}, loss="absolute") < 0.01
     with pytest.raises(ValueError):

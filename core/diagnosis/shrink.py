@@ -402,9 +402,9 @@ def bartlett_bandwidth(x: np.ndarray) -> int:
     A fixed n^⅓ (5 lags on a day of 10-min samples) is short for loss differences that stay
     correlated for hours: a test of squared errors at nominal 5 % rejected an equally good model
     in 23 % of AR(0.95) draws (n = 144), 18 % at n = 576, with this bandwidth in 15 % and 8 %
-    (absolute errors: 22 % and 16 %, then 15 % and 7 %). Where the
-    differences are nearly independent (a clock shift's misfit at switching instants) the
-    bandwidth stays short and the power is kept (session 57's probe)."""
+    (absolute errors: 22 % and 16 %, then 15 % and 7 %). Where the differences are nearly
+    independent (a clock shift's misfit at switching instants) the bandwidth stays short and
+    the power is kept (session 57's probe)."""
     n = x.size
     total = float(x @ x)
     rho = float(x[1:] @ x[:-1]) / total if total > 0.0 else 0.0
@@ -436,10 +436,10 @@ def improvement_p_value(mine: dict[str, np.ndarray], control: dict[str, np.ndarr
     are a few large values among many near zero, their mean small against their spread: a clock
     shift that removed 99 % of the gap beyond re-tuning stayed undecided at p = 0.071 (blind set
     54, seed 5502; set 53's 5402: 98 %, p = 0.069). Absolute differences have a lighter tail and
-    the same sign wherever one model is better: that case's p is 0.010, and set 54's right claims
-    at p 0.03-0.05 went to 0.004-0.006, and no null case claimed anew (docs/diagnosis_bench.md). The
-    shrink itself is still the squared error's, so a claim needs both: enough of the squared gap
-    removed, and an improvement that is not chance at every instant's scale.
+    the same sign wherever one model is better: that case's p is 0.010, set 54's right claims at
+    p 0.03-0.05 went to 0.004-0.006, and no null case claimed anew (docs/diagnosis_bench.md).
+    The shrink itself is still the squared error's, so a claim needs both: enough of the squared
+    gap removed, and an improvement that is not chance at every instant's scale.
     """
     if loss not in ("absolute", "squared"):
         raise ValueError(f"loss must be 'absolute' or 'squared', not {loss!r}")
