@@ -46,3 +46,15 @@ def test_zone_truth_at_a_bound_and_pure_noise(tmp_path):
     t = _frame(noise)["T_zone_degC"].to_numpy()
     # white noise: no autocorrelation left of the zone's hours-long response
     assert abs(np.corrcoef(t[:-1], t[1:])[0, 1]) < 0.2
+
+
+def test_the_bench_scores_an_effect_on_the_data_it_was_confirmed_on():
+    """An effect confirmed on the training data (it acts only there) is scored with its training
+    figures; one confirmed on validation with its validation figures."""
+    from simgap.models.blind import judged_shrinks
+
+    figures = {"gap_shrink": 0.85, "gap_shrink_vs_control": -0.004,
+               "gap_shrink_training": 0.89, "gap_shrink_vs_control_training": 0.83}
+    assert judged_shrinks({**figures, "confirmed_on": "training"}) == (0.89, 0.83)
+    assert judged_shrinks({**figures, "confirmed_on": "validation"}) == (0.85, -0.004)
+    assert judged_shrinks({}) == (None, None)

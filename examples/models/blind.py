@@ -415,6 +415,16 @@ def same_physics(effect: str | None) -> set[str]:
     return {effect} if effect else set()
 
 
+def judged_shrinks(recalibration: dict) -> tuple[float | None, float | None]:
+    """A recalibration's gap shrink and its shrink beyond re-tuning alone, on the data the
+    diagnosis judged the effect on: an effect that acts (almost) only in the training data is
+    confirmed there, and its validation figures say nothing of it (the full run's air start-up
+    lag at seed 1 read -0 % beyond re-tuning on validation, claimed at 83 % on training)."""
+    on = "_training" if recalibration.get("confirmed_on") == "training" else ""
+    return (recalibration.get("gap_shrink" + on, recalibration.get("gap_shrink")),
+            recalibration.get("gap_shrink_vs_control" + on, recalibration.get("gap_shrink_vs_control")))
+
+
 def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2, optimiser: str | None = None,
              reuse: Path | None = None, generations: int | None = None) -> dict:
     """Write, calibrate and diagnose one case blind; score the diagnosis against the truth.
@@ -454,8 +464,7 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     claimed = result["claimed"]
     recal = next((r for r in result["recalibration"] if r["effect"] == case.effect), {})
     withheld = case.withheld
-    truth_shrink = recal.get("gap_shrink")
-    beyond = recal.get("gap_shrink_vs_control")
+    truth_shrink, beyond = judged_shrinks(recal)
     # the truth of a sensor effect is no model setting: there is no floor to close the gap to
     closed = _gap_closed(case, workflow, recal) if recal.get("after") and case.effect not in SENSOR_EFFECTS else None
     # the base calibration's log and this diagnosis's recalibrations (not an earlier diagnosis's)
