@@ -214,3 +214,35 @@ def test_the_noise_floor_of_a_comparison_is_the_smallest_estimate_of_the_residua
     assert share > 0.7, per_target  # the shift removes most of the power's gap beyond re-tuning
     # a control fitted to within the meter's noise still leaves the effect nothing to claim
     assert beyond_control(effect, {"P": above(with_shift + rng.normal(0, 1.0, with_shift.size))}, {"P": 1.0})[1] < 0.05
+
+
+def _pieces(training: int, validation: int):
+    return [SimpleNamespace(seconds=np.arange(training), kind="training"),
+            SimpleNamespace(seconds=np.arange(validation), kind="validation")]
+
+
+def test_a_constant_signature_acts_on_the_validation_data_too():
+    """A thermometer's offset ranked by its bias test leaves a constant signature: no spread in
+    either piece, yet it acts on every sample of both, so the validation data can confirm it."""
+    from simgap.diagnosis.run import acts_mostly_in_training
+
+    ctx = SimpleNamespace(pieces=_pieces(600, 300))
+    rng = np.random.default_rng(3)
+    # the offset on the thermometer, and a power meter's small gain that barely moves in validation
+    power_gain = np.concatenate([rng.normal(0, 1.0, 600), rng.normal(0, 0.05, 300)])
+    offset = SimpleNamespace(fitted={"T_zone": np.full(900, 0.11), "P_el": power_gain})
+    assert not acts_mostly_in_training(ctx, offset)
+    # the same gain alone is an effect the validation data hold almost none of
+    assert acts_mostly_in_training(ctx, SimpleNamespace(fitted={"P_el": power_gain}))
+
+
+def test_a_switching_signature_without_switches_in_validation_acts_mostly_in_training():
+    from simgap.diagnosis.run import acts_mostly_in_training
+
+    ctx = SimpleNamespace(pieces=_pieces(600, 300))
+    spikes = np.zeros(900)
+    spikes[[50, 200, 350, 500]] = 5.0  # starts only in training
+    assert acts_mostly_in_training(ctx, SimpleNamespace(fitted={"P_el": spikes}))
+    spikes[700] = 5.0
+    spikes[820] = 5.0
+    assert not acts_mostly_in_training(ctx, SimpleNamespace(fitted={"P_el": spikes}))
