@@ -2373,6 +2373,32 @@ def fifty_sixth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def fifty_seventh_cases(models: list[str]) -> list[BlindCase]:
+    """A fifty-seventh blind set (issue 14), written and committed in session 59 before any of it
+    ran and after the change it is to test (a0c73e0: an effect whose fitted signature is a
+    constant, a thermometer's offset, is confirmed on the validation data, not on the training
+    data alone): sensor offsets and gains on all three models at settings no set used, and six
+    null cases, where a claim confirmed on training alone would show. Seeds 5801-5812."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(ZONE, "sensor_offset_gain", sensor={"T_zone_degC": (-0.3, 1.0)}, seed=5801),
+        B(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 0.85)}, seed=5802),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.6, 1.0)}, seed=5803, seasons=MIXED),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (0.25, 1.0)}, seed=5804, seasons=WINTER),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.1)}, seed=5805, seasons=AUTUMN),
+        B(air, "clock_shift", shift_s=900.0, seed=5806, seasons=AUTUMN),
+        # null cases
+        B(ZONE, None, seed=5807),
+        B(ZONE, None, seed=5808, noise_scale=1.5),
+        B(ZONE, None, seed=5809, missing_fraction=0.05),
+        B(air, None, seed=5810, seasons=MIXED),
+        B(w2w, None, seed=5811, seasons=AUTUMN),
+        B(air, None, seed=5812, seasons=WINTER, noise_scale=1.5),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2413,6 +2439,7 @@ BLIND_SETS = {
     "forty_ninth": forty_ninth_cases, "fiftieth": fiftieth_cases,
     "fifty_first": fifty_first_cases, "fifty_second": fifty_second_cases,
     "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases, "fifty_fifth": fifty_fifth_cases, "fifty_sixth": fifty_sixth_cases,
+    "fifty_seventh": fifty_seventh_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
