@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .context import ROLES, Context
-from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, MODEST, REOPENS_AT_MOST
+from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, MODEST, REOPENS_AT_MOST, WITHIN_NOISE_SHRINK
 from .shrink import within_noise
 from .where import gap_warning, holds_more_error, rolling_error, worst_windows
 
@@ -292,7 +292,8 @@ def caveats(candidates) -> list[str]:
     fitted = [c for c in candidates if c.applicable and c.within_noise_only][:2]
     if fitted:
         parts.append(f"not claimed, re-tuning alone fits every target to within the noise ({noise_gaps(fitted[0].within_noise)}), "
-                     "so nothing is left for an effect to explain: " + "; ".join(
+                     f"so little is left for an effect to explain that a claim needs {WITHIN_NOISE_SHRINK * fitted[0].min_shrink:.0%} "
+                     "of it: " + "; ".join(
                          f"{c.name} ({c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink:.0%} "
                          "beyond re-tuning of that remainder)" for c in fitted))
     unfitted = [c for c in candidates if c.applicable and c.fitted_no_better][:2]
@@ -505,8 +506,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
               f"that improvement is not chance (paired test of the squared errors against the control's, autocorrelation kept, "
               f"p ≤ {ctx.config.confirm_significance:g}), no target keeps more than {REOPENS_AT_MOST:.0%} of the gap that re-tuning alone closes on it "
               f"(an effect that fits some targets at another's cost stands in for a cause on fewer readings), and, beside a better-confirmed effect, it shrinks the gap further "
-              f"when added on top of that one; nothing is claimed where re-tuning alone fits every target to within the noise "
-              f"(less than one noise variance above the floor). The significant effect whose simulated change removes most of a target's residual "
+              f"when added on top of that one; where re-tuning alone fits every target to within the noise "
+              f"(less than one noise variance above the floor), a claim needs {WITHIN_NOISE_SHRINK:g} times that threshold. The significant effect whose simulated change removes most of a target's residual "
               f"as it is (no fitted coefficient, no tuner cleared), if at least {AS_SIMULATED_SLOT:.0%}, is recalibrated too "
               f"(a tuner at its bound may have stood in for it). When none of the first recalibrations confirms its effect, the next significant "
               f"ones are recalibrated once more, at half that p-value. Before an effect other than a reading error is claimed, "
@@ -612,7 +613,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
             if fitted:
                 lines += ["", "It fits every target to within the noise (the gap it leaves above the floor: "
                           + ", ".join(f"{t} {g:.2g} noise variances" for t, g in fitted.items())
-                          + ", each under one): nothing is left for an effect to explain, and none is claimed."]
+                          + f", each under one): little is left for an effect to explain, and a claim needs {WITHIN_NOISE_SHRINK:g} "
+                          "times the usual shrink beyond re-tuning."]
             lines.append("")
             continue
         if s.get("confirmed_on") == "training":
