@@ -790,8 +790,8 @@ def diagnose(
             for cand in candidates:
                 cand.within_noise = dict(fitted)
     _recalibrate_each(ctx, chosen, nuisance, control, folder, shrink, say)
-    # within the noise, no further recalibration can confirm anything: the first pass's shrinks
-    # stay in the report, what more would cost is saved
+    # within the noise only a first-pass effect that goes twice as far beyond re-tuning is
+    # claimed (ranking.WITHIN_NOISE_SHRINK): the second pass's extra chances are not taken there
     if (chosen and ctx.config.recalibrate.second_pass and not fitted
             and not _settled(chosen, ctx.config.recalibrate.second_pass_below)):
         # none of the first confirmed, or only with every effect parameter at a bound (of six
