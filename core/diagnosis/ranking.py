@@ -79,6 +79,16 @@ re-tuning was lowest were null cases (-19 %, 4 % and 14 %; two a dead band on an
 input, one an input gain); the lowest right claim had 19 %. At one half (10 %) the rule removes
 the first two; at 1, it would also remove a right claim and three wrong ones."""
 
+TRAINING_AT_LEAST_LIKE_RETUNING = 1.0
+"""The same fraction for an effect whose simulated change re-tuning reproduces (at least
+``LIKE_RETUNING``): there the effect and re-tuning make nearly the same change, and a gain beyond
+re-tuning that is real shows where both were fitted, on the training data, by the whole threshold.
+Chosen on blind set 59 (not blind): a zone null case's extra heat load (re-tuning ``UA_env``
+reproduced 99.97 % of its change) shrank the validation gap 42 % beyond re-tuning and the training
+gap 13 %; the right claims that re-tuning reproduced (a zone clock shift at 91 %, an air heat loss
+at 98 %) had 96 % and 62 % on training, and the right claim lowest on training (an air sensor
+lag, 14 %) was reproduced 2 %."""
+
 
 @dataclass
 class Candidate:
@@ -256,10 +266,13 @@ class Candidate:
         ``TRAINING_AT_LEAST`` of that threshold. An effect that explains the gap helps most where
         it is fitted; a validation gain without a training one comes from where the two searches
         ended, not from the effect (a dead band on a null case's fan input: -19 % on training,
-        35 % on validation)."""
-        return (self.gap_shrink is not None and self.shrink_vs_control is not None and self.shrink_vs_control >= self.min_shrink
-                and self.training_shrink_vs_control is not None
-                and self.training_shrink_vs_control < TRAINING_AT_LEAST * self.min_shrink)
+        35 % on validation). Where re-tuning reproduces the effect's change, the training gain
+        must reach the whole threshold (``TRAINING_AT_LEAST_LIKE_RETUNING``)."""
+        if not (self.gap_shrink is not None and self.shrink_vs_control is not None and self.shrink_vs_control >= self.min_shrink
+                and self.training_shrink_vs_control is not None):
+            return False
+        needed = TRAINING_AT_LEAST_LIKE_RETUNING if self.reproduced()[0] >= LIKE_RETUNING else TRAINING_AT_LEAST
+        return self.training_shrink_vs_control < needed * self.min_shrink
 
     def reproduced(self) -> tuple[float, str | None, str | None]:
         """(share of the effect's simulated change that re-tuning reproduces, the tuner most like
