@@ -156,12 +156,6 @@ water-to-water unit's minimum run and off times) and something in 15 of 66 null 
 7, the withheld one in the same 3, and in 1 null case."""
 
 
-def _twin(c) -> str:
-    """", re-tuning X makes the same change of T" where a tuner reproduces the effect's change."""
-    share, tuner, target = c.reproduced()
-    return f"; re-tuning {tuner} makes {share:.0%} of its change of {target}" if tuner is not None and share >= LIKE_RETUNING else ""
-
-
 def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> str:
     """Confirmed effects with their shrink; then those that shrank the gap beyond re-tuning but
     not beyond chance on this record (``Candidate.undecided``); then those whose recalibration
@@ -306,7 +300,7 @@ def caveats(candidates) -> list[str]:
     if unfitted:
         parts.append("not claimed, no better than re-tuning alone on the training data it was fitted to: " + "; ".join(
             f"{c.name} (beyond re-tuning {c.training_shrink_vs_control:.0%} on training, {c.shrink_vs_control:.0%} on validation"
-            + _twin(c) + ")" for c in unfitted))
+            + twin(c) + ")" for c in unfitted))
     if undecided:
         parts.append("undecided on this record: " + "; ".join(
             f"{c.name} (with it the gap shrinks {c.gap_shrink:.0%}, beyond re-tuning {c.shrink_vs_control:.0%}, "
