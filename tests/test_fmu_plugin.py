@@ -362,3 +362,45 @@ def test_close_frees_the_instance_and_a_later_run_starts_afresh(fmu_path, tmp_pa
     assert after["extractions"] == before["extractions"] + 1
     assert after["instantiations"] == before["instantiations"] + 1
     np.testing.assert_array_equal(again["T_zone"], first["T_zone"])
+
+
+_SIMULATE_FROM_PAYLOAD = """
+import pickle, sys, time
+sim, case, parameters = pickle.loads(open(sys.argv[1], "rb").read())
+sim.simulate(parameters, case)
+print("simulated", flush=True)
+if sys.argv[2] == "hang":
+    time.sleep(600)
+"""
+
+
+def test_a_killed_process_s_extracted_fmu_is_removed_by_the_next_process(fmu_path, tmp_path):
+    # A worker killed inside the FMU (a crash, a hang past its deadline) cannot run its exit
+    # handlers; its extracted folder must not stay in the temporary directory for good.
+    import signal
+    import subprocess
+    import sys
+
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    payload = tmp_path / "payload.pickle"
+    payload.write_bytes(pickle.dumps((make_simulator(fmu_path), make_case(key="killed"), TRUTH)))
+    environment = {**os.environ, "TMPDIR": str(temporary)}
+    live = temporary / f"simgap-fmu-{os.getpid()}-live"  # a live process's folder: kept
+    live.mkdir()
+
+    killed = subprocess.Popen([sys.executable, "-c", _SIMULATE_FROM_PAYLOAD, str(payload), "hang"],
+                              env=environment, stdout=subprocess.PIPE, text=True)
+    try:
+        assert killed.stdout.readline().strip() == "simulated"
+        orphan = [p for p in temporary.iterdir() if p.name.startswith(f"simgap-fmu-{killed.pid}-")]
+        assert len(orphan) == 1 and (orphan[0] / "modelDescription.xml").is_file()
+    finally:
+        killed.send_signal(signal.SIGKILL)
+        killed.wait(timeout=30)
+    assert orphan[0].is_dir()  # SIGKILL: no exit handler ran
+
+    subprocess.run([sys.executable, "-c", _SIMULATE_FROM_PAYLOAD, str(payload), "exit"],
+                   env=environment, check=True, capture_output=True, timeout=120)
+    assert not orphan[0].exists()
+    assert sorted(p.name for p in temporary.iterdir()) == [live.name]  # the next one cleaned up at exit

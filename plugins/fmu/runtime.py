@@ -144,12 +144,55 @@ def extract(digest: str, fmu_bytes: bytes) -> Path:
         folder = _extracted.get(digest)
         if folder is not None and folder.is_dir():
             return folder
-        folder = Path(tempfile.mkdtemp(prefix="simgap-fmu-"))
+        _remove_orphaned_folders()
+        folder = Path(tempfile.mkdtemp(prefix=f"{_FOLDER_PREFIX}{os.getpid()}-"))
         with zipfile.ZipFile(io.BytesIO(fmu_bytes)) as archive:
             archive.extractall(folder)
         _extracted[digest] = folder
         _counts["extractions"] += 1
         return folder
+
+
+# Extracted folders are named simgap-fmu-<pid>-<random> in the temporary directory. A process
+# that exits normally removes its own (atexit); one that crashed inside the FMU, was killed for
+# hanging, or was a forked worker leaving through os._exit cannot, so the next process to
+# extract removes the folders whose process no longer exists. A crashing third-party FMU
+# restarted a thousand times would otherwise leave a thousand copies of itself in /tmp.
+_FOLDER_PREFIX = "simgap-fmu-"
+_swept_pid: int | None = None
+
+
+def _process_exists(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)  # signal 0: only asks whether the process exists
+    except ProcessLookupError:
+        return False
+    except OSError:  # PermissionError: another user's process
+        return True
+    return True
+
+
+def _remove_orphaned_folders() -> None:
+    """Delete this user's extracted folders whose process has gone (once per process)."""
+    global _swept_pid
+    if _swept_pid == os.getpid() or os.name != "posix":  # os.kill(pid, 0) terminates on Windows
+        return
+    _swept_pid = os.getpid()
+    try:
+        entries = list(Path(tempfile.gettempdir()).glob(f"{_FOLDER_PREFIX}*-*"))
+    except OSError:
+        return
+    for folder in entries:
+        pid_text = folder.name[len(_FOLDER_PREFIX):].split("-", 1)[0]
+        if not pid_text.isdigit() or int(pid_text) == os.getpid():
+            continue
+        try:
+            if folder.stat().st_uid != os.getuid() or not folder.is_dir():
+                continue
+        except OSError:
+            continue
+        if not _process_exists(int(pid_text)):
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 _loaded_libraries: dict[str, ctypes.CDLL] = {}  # kept referenced: unloading would break the FMU
