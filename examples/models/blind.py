@@ -469,6 +469,10 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
     closed = _gap_closed(case, workflow, recal) if recal.get("after") and case.effect not in SENSOR_EFFECTS else None
     # the base calibration's log and this diagnosis's recalibrations (not an earlier diagnosis's)
     shortfall = search_shortfall(case, workflow, [Path(run_dir) / "evaluations.parquet", Path(result["report"]).parent])
+    try:  # what a perfect recalibration could be credited with on this record (the bench's ceiling)
+        reach = retuning_reach(case, Path(workflow).parent)
+    except Exception as exc:  # a ceiling that cannot be measured must not lose the case's score
+        reach = {"error": f"{type(exc).__name__}: {exc}"}
     return {
         "case": case.label,
         "model": case.model,
@@ -495,6 +499,7 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         "report": str(result["report"]),
         "trace": trace,
         "shortfall": shortfall,
+        "reach": reach,
     }
 
 
@@ -612,3 +617,190 @@ def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
         avoidable += max(before - floor, 0.0) / before
     return gained / avoidable if avoidable > 0.02 else None
 
+
+
+
+REACH_SIGNIFICANCE = 0.05
+"""The paired test's level for :func:`retuning_reach` (the diagnosis's ``confirm_significance``)."""
+
+
+def claimable(reach: dict | None, min_shrink: float = 0.2) -> bool | None:
+    """Whether the diagnosis's claim rule could credit a PERFECT recalibration on this record
+    (:func:`retuning_reach`): decidable, and the gap re-tuning alone leaves is large enough for
+    the shrink threshold. Where re-tuning leaves at least one noise variance on a target
+    (``shrink.WITHIN_NOISE``), a perfect effect removes all of it; below that the rule measures
+    the shrink against one noise variance and asks ``ranking.WITHIN_NOISE_SHRINK`` times
+    ``min_shrink``. None where the reach was not measured."""
+    from simgap.diagnosis.ranking import WITHIN_NOISE_SHRINK
+    from simgap.diagnosis.shrink import WITHIN_NOISE
+
+    if not reach or "excess" not in reach:
+        return None
+    excess = [v for v in reach["excess"].values() if v == v]
+    if not reach["decidable"] or not excess:
+        return False
+    return max(excess) >= WITHIN_NOISE or max(excess) >= WITHIN_NOISE_SHRINK * min_shrink
+
+
+def _written_onto(case: BlindCase, name: str, values, time):
+    """A simulated target's series as ``case``'s sensor and logger would have written it
+    (``_rewrite``'s lag, clock shift, offset and gain), each contiguous stretch of ``time`` apart."""
+    import numpy as np
+
+    from simgap.around import _lag
+
+    out = np.asarray(values, dtype=float).copy()
+    seconds = (np.asarray(time, dtype="datetime64[ns]") - np.asarray(time, dtype="datetime64[ns]")[0]).astype(np.int64) / 1e9
+    step = np.diff(seconds)
+    cuts = [0] + [int(j) + 1 for j in np.flatnonzero(step > 1.5 * np.median(step))] + [len(out)] if len(out) > 1 else [0, len(out)]
+    column = next((c for c in (*case.lag, *case.sensor) if c == name or c.startswith(name + "_")), name)
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        piece, t = out[a:b], seconds[a:b]
+        if column in case.lag:
+            piece = _lag(piece, t, case.lag[column])
+        if case.shift_s:
+            piece = np.interp(t - case.shift_s, t, piece)
+        out[a:b] = piece
+    if column in case.sensor:
+        offset, gain = case.sensor[column]
+        zero = 273.15 if column.endswith("_K") else 0.0
+        out = zero + gain * (out - zero) + offset
+    return out
+
+
+def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict | None:
+    """Whether any diagnosis could tell the withheld effect from re-tuning on this record: a
+    ceiling that depends neither on the diagnosis's search nor on its rules.
+
+    The perfect recalibration is the base model through the case's own workflow with the true
+    tuners and the withheld effect at its true setting: the model's switch on, or the sensor's
+    and logger's effect written onto the simulated series, or the model fed the true input
+    instead of the logged one, its states started from the true readings. The base model without any effect is then fitted by bounded
+    least squares to that perfect model's noise-free training series, starting at the true
+    tuners, so neither the noise nor a search that starts far away limits how well re-tuning
+    alone imitates the effect. On the validation data both are compared with the measured
+    record: ``excess``, per target, the mean squared error re-tuning leaves above the perfect
+    model's, in units of the latter; ``p``, the diagnosis's own paired test
+    (``improvement_p_value``: absolute errors, Bartlett long-run variance) of the perfect model
+    against the re-tuned one over every target. ``decidable``: p ≤ ``REACH_SIGNIFICANCE``.
+    Where it is not, even a perfect recalibration with the effect is no better than re-tuning
+    beyond chance (a power meter's gain that the power scale makes), and a claim would be a
+    guess.
+
+    The fit is local: a distant re-tuning that imitates the effect better would make more cases
+    undecidable, never fewer, so the count of undecidable cases is a lower bound. A perfect model
+    that needs the exact phase of a switching record (a cycling with minimum times, at one
+    off-time in a range of an hour) counts as decidable although no search may find it. None for
+    a null case."""
+    import json
+
+    import numpy as np
+    import pandas as pd
+    from scipy.optimize import least_squares
+
+    from simgap.diagnosis.shrink import improvement_p_value
+    from simgap.evaluation import STATUS_OK, evaluate
+    from simgap.setup import prepare
+
+    folder = Path(folder)
+    if not case.effect or case.scramble or len(case.withheld) != 1:
+        return None
+    truth_file = json.loads((folder / "measured.truth.json").read_text())
+    noisy = prepare(folder / "workflow.yaml")
+    fed_true = None
+    if case.input_gain or case.sensor:
+        # the perfect model reads the plant as it was: the true inputs (the plant saw them) and
+        # the true readings of an offset or gained sensor (the states it starts from)
+        yaml = YAML()
+        doc = yaml.load((folder / "workflow.yaml").read_text())
+        frame = pd.read_parquet(folder / doc["data"]["file"])
+        for column, factor in case.input_gain.items():
+            frame[column] = frame[column] / factor
+        for column, (offset, gain) in case.sensor.items():
+            zero = 273.15 if column.endswith("_K") else 0.0
+            frame[column] = zero + (frame[column] - offset - zero) / gain
+        frame.to_parquet(folder / "measured.as_the_plant_was.parquet")
+        doc["data"]["file"] = "measured.as_the_plant_was.parquet"
+        with (folder / "workflow.as_the_plant_was.yaml").open("w") as f:
+            yaml.dump(doc, f)
+        fed_true = prepare(folder / "workflow.as_the_plant_was.yaml")
+    try:
+        space = noisy.space
+        names = list(space.names)
+        lower, upper = np.asarray(space.lower, dtype=float), np.asarray(space.upper, dtype=float)
+        log = np.asarray(space.log, dtype=bool)
+        tuners = {**BLIND_TUNERS[case.model], **case.truth}
+        # the model's switch and the effect's setting, as the generator ran them
+        perfect_params = {**tuners, **{k: float(v) for k, v in truth_file["parameters"].items() if k not in tuners}}
+        if case.effect == "defrost":  # the defrosts where the logged fan stops (a frost counter cannot start as the record's)
+            perfect_params["defrostFromFan"] = 1.0
+        shape_noise = _ZONE_SHAPE["noise"] if case.model == ZONE else _WORKFLOW_SHAPE[case.model]["noise"]
+        scale = {t.name: shape_noise.get(t.name, 1.0) * case.noise_scale for t in noisy.training.targets}
+
+        def series(setup, params) -> dict[str, np.ndarray] | None:
+            row = evaluate(setup, 0, params, keep_series=True)
+            return None if row["status"] != STATUS_OK else {k: np.asarray(s, dtype=float) for k, s in row["series"].items()}
+
+        def perfect(kind: str) -> dict[str, np.ndarray]:
+            source = fed_true if fed_true is not None else noisy
+            setup = getattr(source, kind)
+            sim = series(setup, perfect_params)
+            if sim is None:
+                raise RuntimeError(f"{case.label}: the true parameters failed")
+            return {t.name: _written_onto(case, t.name, sim[t.name], t.time) for t in setup.targets}
+
+        ideal_training, ideal_validation = perfect("training"), perfect("validation")
+
+        def values(u: np.ndarray) -> dict[str, float]:
+            u = np.clip(u, 0.0, 1.0)
+            safe_lo, safe_hi = np.where(log, lower, 1.0), np.where(log, upper, 1.0)
+            v = np.where(log, np.exp(np.log(safe_lo) + u * (np.log(safe_hi) - np.log(safe_lo))), lower + u * (upper - lower))
+            return {n: float(x) for n, x in zip(names, v)}
+
+        def residuals(u: np.ndarray) -> np.ndarray:
+            sim = series(noisy.training, values(u))
+            parts = []
+            for t in noisy.training.targets:
+                r = (ideal_training[t.name] - sim[t.name]) / scale[t.name] if sim is not None else np.full(len(t.measured), 1e3)
+                parts.append(np.where(np.isfinite(r), r, 0.0))
+            return np.concatenate(parts)
+
+        v = np.array([tuners[n] for n in names], dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            start = np.where(log, (np.log(v) - np.log(np.where(log, lower, 1.0))) / (np.log(np.where(log, upper, 2.0)) - np.log(np.where(log, lower, 1.0))),
+                             (v - lower) / (upper - lower))
+        # a coarse finite-difference step first: a switching model's error moves in steps (on/off
+        # at 60-s steps in hourly means), and a 1 % step can see no slope at all; then a fine one
+        x, cost, evaluations = np.clip(start, 0.0, 1.0), np.inf, 0
+        for step in (0.05, 0.01):
+            fit = least_squares(residuals, x, bounds=(0.0, 1.0), diff_step=step, max_nfev=iterations, method="trf")
+            evaluations += int(fit.nfev)
+            if fit.cost < cost:
+                x, cost = fit.x, float(fit.cost)
+        retuned = values(x)
+        sim = series(noisy.validation, retuned)
+        if sim is None:
+            return None
+        measured = {t.name: np.asarray(t.measured, dtype=float) for t in noisy.validation.targets}
+        mine = {t: measured[t] - ideal_validation[t] for t in measured}
+        control = {t: measured[t] - sim[t] for t in measured}
+        excess, left = {}, {}
+        for t in measured:
+            ok = np.isfinite(mine[t]) & np.isfinite(control[t])
+            floor = float(np.mean(mine[t][ok] ** 2))
+            excess[t] = float(np.mean(control[t][ok] ** 2)) / floor - 1.0 if floor > 0 else float("nan")
+            left[t] = float(np.sqrt(np.mean((ideal_validation[t][ok] - sim[t][ok]) ** 2)) / scale[t])
+        p = improvement_p_value(mine, control, {t: 1.0 for t in measured})
+        return {
+            "retuned": retuned,
+            "truth": {n: float(tuners[n]) for n in names if n in tuners},
+            "excess": excess,
+            "left_sigma": left,
+            "p": p,
+            "decidable": bool(np.isfinite(p) and p <= REACH_SIGNIFICANCE),
+            "fit_evaluations": evaluations,
+        }
+    finally:
+        noisy.simulator.close()
+        if fed_true is not None:
+            fed_true.simulator.close()
