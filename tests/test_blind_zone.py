@@ -58,3 +58,23 @@ def test_the_bench_scores_an_effect_on_the_data_it_was_confirmed_on():
     assert judged_shrinks({**figures, "confirmed_on": "training"}) == (0.89, 0.83)
     assert judged_shrinks({**figures, "confirmed_on": "validation"}) == (0.85, -0.004)
     assert judged_shrinks({}) == (None, None)
+
+
+def test_the_reach_of_a_perfect_recalibration_tells_decidable_cases_from_undecidable(tmp_path):
+    """The bench's ceiling (blind.retuning_reach), measured without the diagnosis: a clock 30 min
+    late leaves the zone's tuners nothing to imitate it with, and a perfect model with the shift
+    beats re-tuning beyond chance; a thermometer reading 0.4 K high is made by the tuners (more
+    heat from the heat pump): re-tuning from the truth does as well as the perfect model on the
+    validation data, so no diagnosis could claim it, and the claim rule would credit it nothing."""
+    from simgap.models.blind import claimable, retuning_reach
+
+    late = BlindCase(ZONE, "clock_shift", shift_s=1800.0, seed=73)
+    high = BlindCase(ZONE, "sensor_offset_gain", sensor={"T_zone_degC": (0.4, 1.0)}, seed=75)
+    decided = retuning_reach(late, write_case(late, tmp_path / "late").parent)
+    undecided = retuning_reach(high, write_case(high, tmp_path / "high").parent)
+    assert decided["decidable"] and decided["p"] < 0.01 and claimable(decided)
+    assert decided["excess"]["T_zone"] > 1.0  # re-tuning leaves more than a noise variance
+    assert not undecided["decidable"] and undecided["p"] > 0.5 and claimable(undecided) is False
+    # the tuners that make the offset: the heat pump's efficiency and the envelope moved
+    assert undecided["retuned"] != undecided["truth"]
+    assert retuning_reach(BlindCase(ZONE, None, seed=73), tmp_path / "late") is None  # a null case has no reach
