@@ -650,9 +650,11 @@ def _written_onto(case: BlindCase, name: str, values, time):
     from simgap.around import _lag
 
     out = np.asarray(values, dtype=float).copy()
-    seconds = (np.asarray(time, dtype="datetime64[ns]") - np.asarray(time, dtype="datetime64[ns]")[0]).astype(np.int64) / 1e9
+    stamps = np.asarray(time, dtype="datetime64[ns]")
+    seconds = (stamps - stamps[0]).astype(np.int64) / 1e9
     step = np.diff(seconds)
-    cuts = [0] + [int(j) + 1 for j in np.flatnonzero(step > 1.5 * np.median(step))] + [len(out)] if len(out) > 1 else [0, len(out)]
+    # the pieces (training or validation cases) are concatenated: a filter or a shift runs within each
+    cuts = [0, *(np.flatnonzero(step > 1.5 * np.median(step)) + 1 if step.size else []), len(out)]
     column = next((c for c in (*case.lag, *case.sensor) if c == name or c.startswith(name + "_")), name)
     for a, b in zip(cuts[:-1], cuts[1:]):
         piece, t = out[a:b], seconds[a:b]
@@ -727,8 +729,6 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
     try:
         space = noisy.space
         names = list(space.names)
-        lower, upper = np.asarray(space.lower, dtype=float), np.asarray(space.upper, dtype=float)
-        log = np.asarray(space.log, dtype=bool)
         tuners = {**BLIND_TUNERS[case.model], **case.truth}
         # the model's switch and the effect's setting, as the generator ran them
         perfect_params = {**tuners, **{k: float(v) for k, v in truth_file["parameters"].items() if k not in tuners}}
@@ -752,10 +752,7 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
         ideal_training, ideal_validation = perfect("training"), perfect("validation")
 
         def values(u: np.ndarray) -> dict[str, float]:
-            u = np.clip(u, 0.0, 1.0)
-            safe_lo, safe_hi = np.where(log, lower, 1.0), np.where(log, upper, 1.0)
-            v = np.where(log, np.exp(np.log(safe_lo) + u * (np.log(safe_hi) - np.log(safe_lo))), lower + u * (upper - lower))
-            return {n: float(x) for n, x in zip(names, v)}
+            return space.as_dicts(space.from_unit(np.asarray(u)[None, :]))[0]
 
         def residuals(u: np.ndarray) -> np.ndarray:
             sim = series(noisy.training, values(u))
@@ -765,10 +762,7 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
                 parts.append(np.where(np.isfinite(r), r, 0.0))
             return np.concatenate(parts)
 
-        v = np.array([tuners[n] for n in names], dtype=float)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            start = np.where(log, (np.log(v) - np.log(np.where(log, lower, 1.0))) / (np.log(np.where(log, upper, 2.0)) - np.log(np.where(log, lower, 1.0))),
-                             (v - lower) / (upper - lower))
+        start = space.to_unit(np.array([[tuners[n] for n in names]], dtype=float))[0]
         # a coarse finite-difference step first: a switching model's error moves in steps (on/off
         # at 60-s steps in hourly means), and a 1 % step can see no slope at all; then a fine one
         x, cost, evaluations = np.clip(start, 0.0, 1.0), np.inf, 0
