@@ -22,6 +22,13 @@ naming no withheld physics. (Sets up to 38 ran single-effect cases with one roun
     python benchmarks/diagnosis_blind.py --fresh --shard 1/2   # the third blind set, half of it
     python benchmarks/diagnosis_blind.py --combinations  # two effects withheld at once (top-1: the
                                                          # first claim is one of them; top-3 column: both claimed)
+    python benchmarks/diagnosis_blind.py --reach --out DIR   # the bench's ceiling, without the diagnosis
+                                                         # (about 4 min): which single effects the data decide
+                                                         # against re-tuning, and which the claim rule could credit
+
+Every case of a run also records its reach (``blind.retuning_reach``), and the table counts the
+single effects within it apart: a case whose effect even a perfect recalibration cannot tell
+from re-tuning alone is not one a diagnosis can miss.
 """
 
 from __future__ import annotations
