@@ -250,3 +250,36 @@ def test_a_pair_s_effect_counts_as_searched_only_beside_the_other(tmp_path):
     assert searched_beside(paths, "heat_loss", {"backup_heater": "useBackupHeater"}) == [on_top, round2]
     assert searched_beside(paths, "heat_loss", {}) == [alone, on_top, round2]
     assert searched_beside([alone, other], "heat_loss", {"backup_heater": "useBackupHeater"}) == []
+
+
+def test_the_table_counts_the_single_effects_within_reach_apart():
+    """The bench's ceiling (blind.retuning_reach): a case the data cannot decide, or on which the
+    claim rule could not credit even a perfect recalibration (under the within-the-noise
+    threshold), is counted apart from the cases a diagnosis can miss."""
+    import importlib.util
+    from pathlib import Path
+
+    from simgap.models.blind import claimable
+
+    def reach(p, **excess):
+        return {"p": p, "decidable": p <= 0.05, "excess": excess}
+
+    assert claimable(reach(1e-9, T=0.30)) is False  # within the noise: a perfect effect removes 0.30 < 2 x 20 %
+    assert claimable(reach(1e-9, T=0.45)) and claimable(reach(0.01, T=0.1, P=1.2))
+    assert claimable(reach(0.2, T=5.0)) is False and claimable(None) is None
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "diagnosis_blind.py"
+    spec = importlib.util.spec_from_file_location("diagnosis_blind", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+
+    def case(name, top1, r):
+        return {"case": name, "model": "m", "effect": "heat_loss", "claimed": ["heat_loss"] if top1 else [],
+                "ranking": ["heat_loss"], "top1": top1, "top3": True, "shrink": None, "closed": None, "reach": r}
+
+    rows = bench.table([case("a", True, reach(1e-6, T=3.0)), case("b", False, reach(0.9, T=0.0)),
+                        case("c", False, reach(1e-6, T=0.2)), case("d", True, reach(1e-3, T=0.5))]).splitlines()
+    decided = next(r for r in rows if "the data decide" in r)
+    credited = next(r for r in rows if "could credit a perfect recalibration" in r)
+    assert "(1 left out: b;" in decided and "| 3 | **2/3 (67%)** |" in decided
+    assert "(2 left out: b; c;" in credited and "| 2 | **2/2 (100%)** |" in credited
