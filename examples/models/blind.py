@@ -618,8 +618,6 @@ def _gap_closed(case: BlindCase, workflow: Path, recal: dict) -> float | None:
     return gained / avoidable if avoidable > 0.02 else None
 
 
-
-
 REACH_SIGNIFICANCE = 0.05
 """The paired test's level for :func:`retuning_reach` (the diagnosis's ``confirm_significance``)."""
 
