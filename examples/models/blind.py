@@ -198,7 +198,6 @@ def input_gain_trace(case: BlindCase, folder: Path) -> dict[str, float]:
     pyranometer in a winter record). Two simulations per input, from the case's own workflow
     and measured file in ``folder`` (``write_case``)."""
     import numpy as np
-    import pandas as pd
 
     from simgap.evaluation import STATUS_OK, evaluate
     from simgap.setup import prepare
@@ -207,7 +206,6 @@ def input_gain_trace(case: BlindCase, folder: Path) -> dict[str, float]:
     shape = _ZONE_SHAPE if case.model == ZONE else _WORKFLOW_SHAPE[case.model]
     noise = {k: v * case.noise_scale for k, v in shape["noise"].items()}
     truth = {**BLIND_TUNERS[case.model], **case.truth}
-    yaml = YAML()
 
     def simulated(workflow: Path) -> dict[str, np.ndarray]:
         prepared = prepare(workflow)
@@ -223,19 +221,32 @@ def input_gain_trace(case: BlindCase, folder: Path) -> dict[str, float]:
     logged = simulated(folder / "workflow.yaml")
     out = {}
     for column, factor in case.input_gain.items():
-        doc = yaml.load((folder / "workflow.yaml").read_text())
-        frame = pd.read_parquet(folder / doc["data"]["file"])
-        frame[column] = frame[column] / factor
-        true_file = folder / f"measured.true_{column}.parquet"
-        frame.to_parquet(true_file)
-        doc["data"]["file"] = true_file.name
-        true_workflow = folder / f"workflow.true_{column}.yaml"
-        with true_workflow.open("w") as f:
-            yaml.dump(doc, f)
-        fed_true = simulated(true_workflow)
+
+        def true_input(frame, column=column, factor=factor):
+            frame[column] = frame[column] / factor
+
+        fed_true = simulated(_workflow_on_changed_data(folder, f"true_{column}", true_input))
         out[column] = max(float(np.sqrt(np.nanmean((fed_true[t] - logged[t]) ** 2))) / sigma for t, sigma in noise.items()
                           if t in logged)
     return out
+
+
+def _workflow_on_changed_data(folder: Path, name: str, change) -> Path:
+    """A copy of the case's ``workflow.yaml`` (``workflow.<name>.yaml``) reading a copy of its
+    measured file (``measured.<name>.parquet``) that ``change(frame)`` altered in place."""
+    import pandas as pd
+
+    yaml = YAML()
+    doc = yaml.load((folder / "workflow.yaml").read_text())
+    frame = pd.read_parquet(folder / doc["data"]["file"])
+    change(frame)
+    data = folder / f"measured.{name}.parquet"
+    frame.to_parquet(data)
+    doc["data"]["file"] = data.name
+    workflow = folder / f"workflow.{name}.yaml"
+    with workflow.open("w") as f:
+        yaml.dump(doc, f)
+    return workflow
 
 
 def write_case(case: BlindCase, folder: Path) -> Path:
@@ -695,7 +706,6 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
     import json
 
     import numpy as np
-    import pandas as pd
     from scipy.optimize import least_squares
 
     from simgap.diagnosis.shrink import improvement_p_value
@@ -711,19 +721,14 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
     if case.input_gain or case.sensor:
         # the perfect model reads the plant as it was: the true inputs (the plant saw them) and
         # the true readings of an offset or gained sensor (the states it starts from)
-        yaml = YAML()
-        doc = yaml.load((folder / "workflow.yaml").read_text())
-        frame = pd.read_parquet(folder / doc["data"]["file"])
-        for column, factor in case.input_gain.items():
-            frame[column] = frame[column] / factor
-        for column, (offset, gain) in case.sensor.items():
-            zero = 273.15 if column.endswith("_K") else 0.0
-            frame[column] = zero + (frame[column] - offset - zero) / gain
-        frame.to_parquet(folder / "measured.as_the_plant_was.parquet")
-        doc["data"]["file"] = "measured.as_the_plant_was.parquet"
-        with (folder / "workflow.as_the_plant_was.yaml").open("w") as f:
-            yaml.dump(doc, f)
-        fed_true = prepare(folder / "workflow.as_the_plant_was.yaml")
+        def as_the_plant_was(frame):
+            for column, factor in case.input_gain.items():
+                frame[column] = frame[column] / factor
+            for column, (offset, gain) in case.sensor.items():
+                zero = 273.15 if column.endswith("_K") else 0.0
+                frame[column] = zero + (frame[column] - offset - zero) / gain
+
+        fed_true = prepare(_workflow_on_changed_data(folder, "as_the_plant_was", as_the_plant_was))
     try:
         space = noisy.space
         names = list(space.names)
