@@ -382,27 +382,35 @@ def _write_zone_case(case: BlindCase, folder: Path) -> Path:
     return path
 
 
+def _as_logged(case: BlindCase, column: str, values, seconds, shifted: bool = True):
+    """One column's finite samples as ``case``'s sensor and logger wrote them: its time constant,
+    the clock shift (where ``shifted``), then its offset and gain (a temperature in K about 0 degC)."""
+    import numpy as np
+
+    from simgap.around import _lag
+
+    out = np.asarray(values, dtype=float).copy()
+    ok = np.isfinite(out)
+    if column in case.lag:
+        out[ok] = _lag(out[ok], seconds[ok], case.lag[column])
+    if shifted and case.shift_s:
+        out[ok] = np.interp(seconds[ok] - case.shift_s, seconds[ok], out[ok])
+    if column in case.sensor:
+        offset, gain = case.sensor[column]
+        zero = 273.15 if column.endswith("_K") else 0.0
+        out = zero + gain * (out - zero) + offset
+    return out
+
+
 def _rewrite(path: Path, case: BlindCase, targets: list[str]) -> None:
     """Effects of the sensors, the logger and the input meters, written onto the measured file."""
     import numpy as np
     import pandas as pd
 
-    from simgap.around import _lag
-
     frame = pd.read_parquet(path)
     seconds = (pd.to_datetime(frame["time"]) - pd.to_datetime(frame["time"]).iloc[0]).dt.total_seconds().to_numpy()
-    for column, tau in case.lag.items():
-        values = frame[column].to_numpy(dtype=float)
-        ok = np.isfinite(values)
-        frame.loc[ok, column] = _lag(values[ok], seconds[ok], tau)
-    if case.shift_s:
-        for column in targets:
-            values = frame[column].to_numpy(dtype=float)
-            ok = np.isfinite(values)
-            frame.loc[ok, column] = np.interp(seconds[ok] - case.shift_s, seconds[ok], values[ok])
-    for column, (offset, gain) in case.sensor.items():
-        zero = 273.15 if column.endswith("_K") else 0.0
-        frame[column] = zero + gain * (frame[column] - zero) + offset
+    for column in dict.fromkeys([*case.lag, *(targets if case.shift_s else []), *case.sensor]):
+        frame[column] = _as_logged(case, column, frame[column].to_numpy(dtype=float), seconds, shifted=column in targets)
     for column, factor in case.input_gain.items():
         if column not in frame:
             raise ValueError(f"input_gain: no column {column!r} in {path.name}")
@@ -653,29 +661,17 @@ def claimable(reach: dict | None, min_shrink: float = 0.2) -> bool | None:
 
 def _written_onto(case: BlindCase, name: str, values, time):
     """A simulated target's series as ``case``'s sensor and logger would have written it
-    (``_rewrite``'s lag, clock shift, offset and gain), each contiguous stretch of ``time`` apart."""
+    (``_as_logged``), each contiguous stretch of ``time`` (a training or validation case) apart."""
     import numpy as np
-
-    from simgap.around import _lag
 
     out = np.asarray(values, dtype=float).copy()
     stamps = np.asarray(time, dtype="datetime64[ns]")
     seconds = (stamps - stamps[0]).astype(np.int64) / 1e9
     step = np.diff(seconds)
-    # the pieces (training or validation cases) are concatenated: a filter or a shift runs within each
     cuts = [0, *(np.flatnonzero(step > 1.5 * np.median(step)) + 1 if step.size else []), len(out)]
     column = next((c for c in (*case.lag, *case.sensor) if c == name or c.startswith(name + "_")), name)
     for a, b in zip(cuts[:-1], cuts[1:]):
-        piece, t = out[a:b], seconds[a:b]
-        if column in case.lag:
-            piece = _lag(piece, t, case.lag[column])
-        if case.shift_s:
-            piece = np.interp(t - case.shift_s, t, piece)
-        out[a:b] = piece
-    if column in case.sensor:
-        offset, gain = case.sensor[column]
-        zero = 273.15 if column.endswith("_K") else 0.0
-        out = zero + gain * (out - zero) + offset
+        out[a:b] = _as_logged(case, column, out[a:b], seconds[a:b])
     return out
 
 
