@@ -7,6 +7,7 @@ budget, and the diagnosis must find and confirm the generic effect around the si
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -393,3 +394,36 @@ def test_an_unconverged_calibration_is_diagnosed_again_from_the_re_tuned_solutio
         assert clause in top["verdict"] and clause in text.split("**Verdict for the solution as calibrated")[0]
     # nothing was withheld: the re-tuned solution leaves no effect to claim
     assert not result["claimed"], result["verdict"]
+
+
+def test_a_unit_the_model_states_decides_what_is_a_temperature(tmp_path):
+    """The quickstart zone's solar gains (W) and power (W) have means where kelvin lie (about
+    250-350 over a January record): the model's stated unit decides, not the mean. Before, the
+    input gain error never tried the solar input, and a power meter whose mean fell there got
+    a thermometer's offset instead of a meter's gain."""
+    from simgap.diagnosis.context import build_context
+    from simgap.plugins.effects.generic import InputGainError, SensorOffsetGain, _looks_temperature
+
+    frame = pd.read_csv(DATA)
+    t = _seconds(frame)
+    # solar gains averaging 200-420 W
+    frame["Q_sol_W"] = np.where(np.arange(len(t)) % 7 == 0, 0.0, 300.0)
+    run_dir = calibrate(prepare(_workflow(tmp_path, frame, optimiser={"plugin": "nsga2", "options": {"population": 8}, "seed": 1,
+                                                                     "budget": {"evaluations": 8}})), workers=1)
+    ctx = build_context(run_dir)
+    data = ctx.data()
+    assert 200.0 < float(np.nanmean(data.inputs["Q_sol"])) < 420.0
+    assert ctx.units == {"T_zone": "K", "P_el": "W"}, ctx.units  # from the FMU's units, not the names
+    gains = [p.name for p in InputGainError().addition(data).parameters]
+    assert "inputGain_Q_sol" in gains, gains
+    # the power meter gets a gain whatever its mean
+    power = np.full(len(data.time), 300.0)
+    power[::5] = 0.0
+    view = dataclasses.replace(data, simulated={"T_zone": data.simulated["T_zone"], "P_el": power})
+    tuners = [p.name for p in SensorOffsetGain().addition(view).parameters]
+    assert tuners == ["offset_T_zone", "gain_P_el"], tuners
+    # with no unit stated, a series that reaches zero is no temperature in kelvin; one that
+    # stays where kelvin lie is
+    assert not _looks_temperature(power, "")
+    assert _looks_temperature(np.linspace(280.0, 300.0, 50), "")
+    assert _looks_temperature(np.linspace(20.0, 50.0, 50), "degC") and not _looks_temperature(np.linspace(280.0, 300.0, 50), "W")

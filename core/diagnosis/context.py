@@ -333,9 +333,21 @@ _ROLE_PATTERNS = {
 
 
 def guess_units(ctx: Context) -> dict[str, str]:
-    """'K' for targets that look like temperatures (name and values), else ''."""
+    """Per target: 'K' for a temperature, else the unit the model states for the target's
+    simulated variable ('W', 'kg/s' ...), else ''. The model's unit decides where it states one
+    (a power in W is not read as a temperature because its mean lies where kelvin do); where it
+    states none, a name starting with T and values like K or degC make a temperature."""
+    try:
+        variables = ctx.prepared.simulator.variables()
+    except Exception:  # a simulator that cannot list its variables states no units
+        variables = {}
+    target_vars = {t.name: t.simulated_variables[0] for t in ctx.prepared.wf.model.targets}
     units = {}
     for name, values in ctx.joined("measured").items():
+        stated = getattr(variables.get(target_vars.get(name, name)), "unit", "") or ""
+        if stated and dimension(stated) is not None:
+            units[name] = "K" if dimension(stated) == "temperature" else stated
+            continue
         mean = float(np.nanmean(values))
         looks_temperature = re.match(r"^t", name, re.I) is not None
         units[name] = "K" if looks_temperature and (200.0 < mean < 420.0 or -40.0 < mean < 120.0) else ""
