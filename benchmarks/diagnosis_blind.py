@@ -2470,6 +2470,32 @@ def fifty_ninth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def sixtieth_cases(models: list[str]) -> list[BlindCase]:
+    """A sixtieth blind set (issue 14), written and committed in session 67 before any of it ran
+    and after the change it is to test (9797097: a unit the model states decides what is a
+    temperature, so the quickstart zone's solar input, in W with a mean where kelvin lie, is
+    tried by the input gain error, and a power meter averaging 200-420 W gets a gain, not an
+    offset): the zone's solar input logged off by factors no set used, its compressor signal
+    off, power meters on records whose power averages 200-420 W (a more efficient plant), and
+    four null cases, where a further alternative could claim falsely. Seeds 6101-6111."""
+    B = BlindCase
+    out = [
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 1.2}, seed=6101),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 0.75}, seed=6102),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 1.4}, seed=6103, noise_scale=1.5),
+        B(ZONE, "input_gain_error", input_gain={"Q_sol_W": 0.85}, seed=6104),
+        B(ZONE, "input_gain_error", input_gain={"u_hp": 1.15}, seed=6105),
+        B(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 0.9)}, seed=6106, truth={"eta_carnot": 0.55}),
+        B(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 1.15)}, seed=6107, truth={"eta_carnot": 0.6}),
+        # null cases
+        B(ZONE, None, seed=6108),
+        B(ZONE, None, seed=6109, truth={"eta_carnot": 0.55}),
+        B(ZONE, None, seed=6110, noise_scale=1.5),
+        B(ZONE, None, seed=6111, missing_fraction=0.05),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2511,6 +2537,7 @@ BLIND_SETS = {
     "fifty_first": fifty_first_cases, "fifty_second": fifty_second_cases,
     "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases, "fifty_fifth": fifty_fifth_cases, "fifty_sixth": fifty_sixth_cases,
     "fifty_seventh": fifty_seventh_cases, "fifty_eighth": fifty_eighth_cases, "fifty_ninth": fifty_ninth_cases,
+    "sixtieth": sixtieth_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
