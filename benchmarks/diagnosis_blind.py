@@ -2496,6 +2496,40 @@ def sixtieth_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def sixty_first_cases(models: list[str]) -> list[BlindCase]:
+    """A sixty-first blind set (issue 14), written and committed in session 67 before any of it
+    ran, with no change to test: how the diagnosis of today (9797097) does on cases it has not
+    seen, on every model, with each case's reach (``blind.retuning_reach``) so that the score
+    over the cases a perfect recalibration could be credited with stands beside the score over
+    all. Model effects at settings chosen for this set (a 200-s start-up lag, 900-s minimum
+    times, a defrost every 50 min, a backup heater below 2 degC, a part-load limit of 0.6 ...),
+    generic effects on all three models, three null cases. Seeds 6201-6218."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(air, "start_up_lag", strength={"tauStartUp": 200.0}, seed=6201, seasons=MIXED),
+        B(air, "cycling", strength={"tCycMinRun": 900.0, "tCycMinOff": 900.0}, seed=6202, seasons=AUTUMN),
+        B(air, "defrost", strength={"tDefrostInterval": 3000.0}, seed=6203, seasons=WINTER),
+        B(air, "backup_heater", strength={"TOdaBackup": 275.15}, seed=6204, seasons=WINTER),
+        B(air, "post_run", strength={"tPostRun": 300.0}, seed=6205, seasons=MIXED),
+        B(air, "clock_shift", shift_s=1200.0, seed=6206, seasons=MIXED),
+        B(air, "input_gain_error", input_gain={"m_flowHC_kg_s": 1.15}, seed=6207, seasons=AUTUMN),
+        B(w2w, "heat_loss", strength={"UALossGen": 250.0}, seed=6208, seasons=MIXED),
+        B(w2w, "cycling", strength={"plrCycMin": 0.6}, seed=6209, seasons=AUTUMN),
+        B(w2w, "sensor_lag", strength={"tauSensor": 1200.0}, seed=6210, seasons=WINTER),
+        B(w2w, "post_run", strength={"tPostRun": 1500.0}, seed=6211, seasons=MIXED),
+        B(w2w, "sensor_offset_gain", sensor={"PEl_W": (0.0, 1.12)}, seed=6212, seasons=WINTER),
+        B(ZONE, "sensor_time_constant", lag={"T_zone_degC": 900.0}, seed=6213),
+        B(ZONE, "clock_shift", shift_s=-1200.0, seed=6214),
+        B(ZONE, "input_gain_error", input_gain={"u_hp": 0.85}, seed=6215),
+        # null cases
+        B(air, None, seed=6216, seasons=MIXED),
+        B(w2w, None, seed=6217, seasons=AUTUMN),
+        B(ZONE, None, seed=6218),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2537,7 +2571,7 @@ BLIND_SETS = {
     "fifty_first": fifty_first_cases, "fifty_second": fifty_second_cases,
     "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases, "fifty_fifth": fifty_fifth_cases, "fifty_sixth": fifty_sixth_cases,
     "fifty_seventh": fifty_seventh_cases, "fifty_eighth": fifty_eighth_cases, "fifty_ninth": fifty_ninth_cases,
-    "sixtieth": sixtieth_cases,
+    "sixtieth": sixtieth_cases, "sixty_first": sixty_first_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
