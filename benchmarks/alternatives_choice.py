@@ -71,10 +71,14 @@ def alternatives(run: Path, solution: int | None, names: set[str]) -> dict[str, 
     return out
 
 
-def truth_of(case: dict, effect: str) -> str | None:
-    """The alternative the bench wrote, read from the case label (an input's or a reading's column)."""
-    found = re.search(rf"{effect}\(([A-Za-z_]+?)(?:_W|_K|_degC|_W_m2|_kg_s)?(?:_logged_x|tau)", case["case"])
-    return found.group(1) if found else None
+def truth_of(case: dict, effect: str, labels: list[str]) -> str | None:
+    """Of ``labels`` (the alternatives' variables), the one the bench wrote, read from the case
+    label: the measured column is the variable's name or it with a unit suffix (Q_sol_W)."""
+    found = re.search(rf"{effect}\(([A-Za-z0-9_]+?)(?:_logged_x|tau)", case["case"])
+    if not found:
+        return None
+    column = found.group(1)
+    return next((v for v in labels if column == v or column.startswith(v + "_")), column)
 
 
 def main() -> None:
@@ -96,7 +100,7 @@ def main() -> None:
         for run, solution, kind in screened_solutions(case_dir):
             for effect, row in alternatives(run, solution, names).items():
                 group = "null" if not withheld else ("withheld" if effect in withheld else "other")
-                truth = truth_of(case, effect) if group == "withheld" else None
+                truth = truth_of(case, effect, [r["alternative"] for r in row["alternatives"]]) if group == "withheld" else None
                 alts = "  ".join(f"{r['alternative']} {r['share']:6.1%} p={r['p']:.2g}" for r in row["alternatives"])
                 line = (f"{group:8s} {effect:22s} {case['case'][:72]:72s} {kind:7s} {alts}  share keeps {row['kept_by_share']}, "
                         f"p would keep {row['kept_by_p']}" + (f"; the truth {truth}" if truth else ""))
