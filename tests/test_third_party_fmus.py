@@ -106,3 +106,50 @@ def test_short_calibration_on_the_pythonfmu_model(pythonfmu_model, tmp_path):
     assert len(evaluations) == 48 and evaluations["status"].eq("ok").all()
     best = evaluations.loc[evaluations["objective.y.rmse"].idxmin()]
     assert best["param.k"] == pytest.approx(TRUE_K, rel=0.05), best
+
+
+def test_a_pythonfmu_model_without_units_has_its_readings_told_apart_by_their_values(pythonfmu_model, tmp_path):
+    """pythonfmu states no units. An input in watts and an output averaging where kelvin lie
+    (200-420) but reaching zero are no temperatures: the input gain error tries the input, and the
+    output's reading error is a meter's gain, not a thermometer's offset."""
+    from simgap.calibrate import calibrate
+    from simgap.diagnosis.context import build_context
+    from simgap.plugins.effects.generic import InputGainError, SensorOffsetGain
+    from simgap.setup import prepare
+
+    time = pd.date_range("2024-01-08", periods=2 * 144 + 1, freq="600s")
+    rng = np.random.default_rng(3)
+    u = np.clip(400.0 * np.sin(np.arange(len(time)) / 20.0) + 200.0 + rng.normal(0, 40, len(time)), 0, None)
+    y = np.zeros(len(time))
+    for i in range(1, len(time)):
+        y[i] = y[i - 1] + (TRUE_K * u[i - 1] - y[i - 1]) * min(1.0, STEP / TRUE_TAU)
+    pd.DataFrame({"time": time, "u": u, "y": y + rng.normal(0, 2, len(time))}).to_csv(tmp_path / "measured.csv", index=False)
+    (tmp_path / "workflow.yaml").write_text(textwrap.dedent(f"""\
+        name: pythonfmu_units
+        data:
+          file: measured.csv
+          time: time
+          segments:
+            training: {{start: "0%", end: "60%"}}
+            validation: {{start: "60%", end: "100%"}}
+        simulator:
+          plugin: fmu
+          options: {{fmu: {pythonfmu_model}, step_size: 600, inputs_as: mean_starting}}
+          inputs: {{u: u}}
+        parameters:
+          - {{name: k, min: 0.5, max: 3.0}}
+        targets:
+          - {{name: y, measured: y, simulated: y, metrics: [rmse]}}
+        optimiser:
+          plugin: nsga2
+          options: {{population: 8}}
+          seed: 1
+          budget: {{evaluations: 16}}
+        output: runs
+        """))
+    ctx = build_context(calibrate(prepare(tmp_path / "workflow.yaml"), workers=1))
+    data = ctx.data()
+    assert 200.0 < float(np.mean(data.inputs["u"])) < 420.0 and 200.0 < float(np.mean(data.simulated["y"])) < 420.0
+    assert ctx.units == {"y": ""}  # nothing stated, and not named like a temperature
+    assert [p.name for p in InputGainError().addition(data).parameters] == ["inputGain_u"]
+    assert [p.name for p in SensorOffsetGain().addition(data).parameters] == ["gain_y"]
