@@ -65,17 +65,18 @@ def test_inspect_lists_the_pythonfmu_model(pythonfmu_model):
         ("k", "parameter"), ("tau", "parameter"), ("u", "input"), ("y", "output")}
 
 
-def test_short_calibration_on_the_pythonfmu_model(pythonfmu_model, tmp_path):
-    # measurements made by the same law with the true gain (the FMU's own start value is 2.0)
-    time = pd.date_range("2024-01-08", periods=2 * 144 + 1, freq="600s")
-    rng = np.random.default_rng(3)
-    u = np.clip(np.sin(np.arange(len(time)) / 20.0) + rng.normal(0, 0.2, len(time)), 0, None)
+def _record_and_workflow(folder: Path, model: Path, u: np.ndarray, noise: float, name: str, metrics: str, evaluations: int) -> Path:
+    """Measurements made by the model's own law with the true gain (the FMU's start value is
+    2.0) from input ``u``, plus ``noise``; a workflow calibrating the gain on them."""
+    time = pd.date_range("2024-01-08", periods=len(u), freq="600s")
     y = np.zeros(len(time))
     for i in range(1, len(time)):  # the FMU's explicit step, input held from the step's start
         y[i] = y[i - 1] + (TRUE_K * u[i - 1] - y[i - 1]) * min(1.0, STEP / TRUE_TAU)
-    pd.DataFrame({"time": time, "u": u, "y": y}).to_csv(tmp_path / "measured.csv", index=False)
-    (tmp_path / "workflow.yaml").write_text(textwrap.dedent(f"""\
-        name: pythonfmu_gain
+    y = y + np.random.default_rng(4).normal(0, noise, len(time)) if noise else y
+    pd.DataFrame({"time": time, "u": u, "y": y}).to_csv(folder / "measured.csv", index=False)
+    path = folder / "workflow.yaml"
+    path.write_text(textwrap.dedent(f"""\
+        name: {name}
         data:
           file: measured.csv
           time: time
@@ -84,19 +85,26 @@ def test_short_calibration_on_the_pythonfmu_model(pythonfmu_model, tmp_path):
             validation: {{start: "60%", end: "100%"}}
         simulator:
           plugin: fmu
-          options: {{fmu: {pythonfmu_model}, step_size: 600, inputs_as: mean_starting}}
+          options: {{fmu: {model}, step_size: 600, inputs_as: mean_starting}}
           inputs: {{u: u}}
         parameters:
           - {{name: k, min: 0.5, max: 3.0}}
         targets:
-          - {{name: y, measured: y, simulated: y, metrics: [rmse, mae]}}
+          - {{name: y, measured: y, simulated: y, metrics: [{metrics}]}}
         optimiser:
           plugin: nsga2
           options: {{population: 8}}
           seed: 1
-          budget: {{evaluations: 48}}
+          budget: {{evaluations: {evaluations}}}
         output: runs
         """))
+    return path
+
+
+def test_short_calibration_on_the_pythonfmu_model(pythonfmu_model, tmp_path):
+    rng = np.random.default_rng(3)
+    u = np.clip(np.sin(np.arange(2 * 144 + 1) / 20.0) + rng.normal(0, 0.2, 2 * 144 + 1), 0, None)
+    _record_and_workflow(tmp_path, pythonfmu_model, u, 0.0, "pythonfmu_gain", "rmse, mae", 48)
     check = simgap_cli("check", tmp_path / "workflow.yaml")
     assert check.returncode == 0, check.stdout + check.stderr
     result = simgap_cli("run", tmp_path / "workflow.yaml", "--workers", "2")
@@ -117,36 +125,10 @@ def test_a_pythonfmu_model_without_units_has_its_readings_told_apart_by_their_va
     from simgap.plugins.effects.generic import InputGainError, SensorOffsetGain
     from simgap.setup import prepare
 
-    time = pd.date_range("2024-01-08", periods=2 * 144 + 1, freq="600s")
     rng = np.random.default_rng(3)
-    u = np.clip(400.0 * np.sin(np.arange(len(time)) / 20.0) + 200.0 + rng.normal(0, 40, len(time)), 0, None)
-    y = np.zeros(len(time))
-    for i in range(1, len(time)):
-        y[i] = y[i - 1] + (TRUE_K * u[i - 1] - y[i - 1]) * min(1.0, STEP / TRUE_TAU)
-    pd.DataFrame({"time": time, "u": u, "y": y + rng.normal(0, 2, len(time))}).to_csv(tmp_path / "measured.csv", index=False)
-    (tmp_path / "workflow.yaml").write_text(textwrap.dedent(f"""\
-        name: pythonfmu_units
-        data:
-          file: measured.csv
-          time: time
-          segments:
-            training: {{start: "0%", end: "60%"}}
-            validation: {{start: "60%", end: "100%"}}
-        simulator:
-          plugin: fmu
-          options: {{fmu: {pythonfmu_model}, step_size: 600, inputs_as: mean_starting}}
-          inputs: {{u: u}}
-        parameters:
-          - {{name: k, min: 0.5, max: 3.0}}
-        targets:
-          - {{name: y, measured: y, simulated: y, metrics: [rmse]}}
-        optimiser:
-          plugin: nsga2
-          options: {{population: 8}}
-          seed: 1
-          budget: {{evaluations: 16}}
-        output: runs
-        """))
+    n = 2 * 144 + 1
+    u = np.clip(400.0 * np.sin(np.arange(n) / 20.0) + 200.0 + rng.normal(0, 40, n), 0, None)
+    _record_and_workflow(tmp_path, pythonfmu_model, u, 2.0, "pythonfmu_units", "rmse", 16)
     ctx = build_context(calibrate(prepare(tmp_path / "workflow.yaml"), workers=1))
     data = ctx.data()
     assert 200.0 < float(np.mean(data.inputs["u"])) < 420.0 and 200.0 < float(np.mean(data.simulated["y"])) < 420.0
