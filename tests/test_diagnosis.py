@@ -1170,3 +1170,81 @@ def test_the_models_own_effect_ranked_above_a_generic_claim_is_recalibrated_befo
     assert untried_own([cand("sensor_offset_gain", 0.1, 0.84, reading_error=True, claimed=True), lag]) == []
     # nothing claimed
     assert untried_own([cand("on_off_delay", 0.164, 0.05), lag]) == []
+
+
+@pytest.mark.parametrize("adds, leads", [(0.04, "heat_loss"), (0.35, "sensor_offset_gain")])
+def test_a_reading_error_the_next_rounds_physical_effect_explains_is_not_claimed(monkeypatch, tmp_path, adds, leads):
+    """Round 1 claims a supply thermometer's offset; round 2, with the offset in the model,
+    confirms a heat loss. The heat loss is then recalibrated alone (round 1 never did: 1 % of
+    the residual), from where round 2's search left it, and the offset on top of it from where
+    round 2's joint fit ended. Where the offset adds less than its threshold, the heat loss
+    leads the chain and the claims, and the verdict says what it replaced (blind case 6307, a
+    90-W/K heat loss); where the offset adds its share, both stay as they were. Only the
+    searches are replaced here; the decision and its wiring are the diagnosis's own."""
+    from types import SimpleNamespace
+
+    from simgap.diagnosis import run as run_module
+    from simgap.diagnosis.context import DiagnoseConfig
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+    from simgap.interfaces import EffectParameter
+
+    def cand(name, parameter, **kw):
+        addition = simgap.EffectAddition(switch={}, parameters=(EffectParameter(parameter, 0.0, -2.0, 400.0, neutral=0.0),))
+        return Candidate(name, "", "", True, addition=addition, confirm=True, min_shrink=0.2, **kw)
+
+    offset = cand("sensor_offset_gain", "offset_TSup_K", significant=True, reading_error=True, gap_shrink=0.56,
+                  shrink_vs_control=0.39, p_vs_control=3e-7)
+    loss = cand("heat_loss", "UALossGen")  # 1 % in round 1's screening: not significant, never recalibrated
+    assert offset.claimed and not loss.claimed
+    shrink = [{"effect": "control", "after": {}},
+              {"effect": "sensor_offset_gain", "after": {}, "confirmed_on": "validation",
+               "parameters": {"THeaCurY2_K": 302.76, "offset_TSup_K": -0.41}}]
+    chain = [{"round": 1, "effect": "sensor_offset_gain", "gap_shrink": 0.56, "cumulative_shrink": 0.56},
+             {"round": 2, "effect": "heat_loss", "gap_shrink": 0.39, "cumulative_shrink": 0.73, "stopped": "the round limit",
+              "effect_parameters": {"UALossGen": 129.5},
+              "parameters": {"THeaCurY2_K": 301.94, "offset_TSup_K": 0.14, "UALossGen": 129.5}}]
+    seen = {}
+
+    def recalibrate_each(ctx, group, nuisance, control, folder, results, say):
+        seen["started_from"] = dict(ctx.found_before)
+        for c in group:
+            c.gap_shrink, c.shrink_vs_control, c.p_vs_control = 0.6, 0.45, 1e-5
+            results.append({"effect": c.name, "after": {}, "run": "alone", "confirmed_on": "validation",
+                            "parameters": {"THeaCurY2_K": 301.9, "UALossGen": 120.0}, "effect_parameters": {"UALossGen": 120.0}})
+
+    def added_on_top(ctx, base, base_result, added, results, folder, say, joint_start=None):
+        seen["on_top"] = (base.name, added.name, dict(joint_start))
+        return {"effect": f"{base.name}_and_{added.name}"}, adds
+
+    monkeypatch.setattr(run_module, "_recalibrate_each", recalibrate_each)
+    monkeypatch.setattr(run_module, "_added_on_top", added_on_top)
+    ctx = SimpleNamespace(config=DiagnoseConfig(), found_before={})
+    candidates, new_chain = run_module.reading_error_explained(ctx, [offset, loss], chain, shrink, None, None, tmp_path,
+                                                               lambda *_: None)
+    assert seen["started_from"] == {"heat_loss": {"UALossGen": 129.5}}
+    # the joint search starts at round 2's joint fit (the offset where round 2 took it)
+    assert seen["on_top"] == ("heat_loss", "sensor_offset_gain",
+                              {"THeaCurY2_K": 301.94, "offset_TSup_K": 0.14, "UALossGen": 129.5})
+    claimed = [c.name for c in candidates if c.claimed]
+    assert claimed[0] == leads
+    if leads == "heat_loss":
+        assert claimed == ["heat_loss"] and offset.explained_by == "heat_loss"
+        assert [link["effect"] for link in new_chain] == ["heat_loss"]
+        assert new_chain[0]["in_place_of"] == "sensor_offset_gain" and new_chain[0]["stopped"] == "the round limit"
+        said = verdict(candidates)
+        assert said.startswith("most likely unmodelled effect: heat_loss")
+        assert "in place of sensor_offset_gain" in said and "adds 4%" in said
+    else:
+        assert new_chain is chain and not offset.explained_by
+    # a physical effect that is not confirmed alone leaves the chain as it was
+    offset2, loss2 = (cand("sensor_offset_gain", "offset_TSup_K", significant=True, reading_error=True, gap_shrink=0.56,
+                           shrink_vs_control=0.39, p_vs_control=3e-7), cand("heat_loss", "UALossGen"))
+    monkeypatch.setattr(run_module, "_recalibrate_each",
+                        lambda ctx, group, *a: [setattr(c, "gap_shrink", 0.1) or setattr(c, "shrink_vs_control", 0.05)
+                                                or a[3].append({"effect": c.name, "after": {}}) for c in group])
+    seen.clear()
+    ctx.found_before = {}
+    candidates, same = run_module.reading_error_explained(ctx, [offset2, loss2], chain, list(shrink), None, None, tmp_path,
+                                                          lambda *_: None)
+    assert same is chain and "on_top" not in seen and [c.name for c in candidates if c.claimed] == ["sensor_offset_gain"]

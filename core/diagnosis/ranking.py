@@ -191,6 +191,13 @@ class Candidate:
     count_evidence: bool = False
     """The base simulation starts far more or fewer times than the record, and a setting of the
     effect brings the count at least halfway (in log) towards it: earns a recalibration."""
+    next_round: str = ""
+    """Recalibrated in this round, though the screening may not have pointed here, because the
+    next round confirmed it on top of this round's reading error ``next_round`` names
+    (:func:`simgap.diagnosis.run.reading_error_explained`)."""
+    explained_by: str = ""
+    """For a reading error claimed first: the effect a later round confirmed on top of it, which,
+    recalibrated alone, leaves the reading error less than its threshold to add: not claimed."""
     stand_in_slot: bool = False
     """Recalibrated, though not significant, because it removes most of a target's residual as
     simulated and the first pass's claim stood at the bounds of its ranges (standing in for
@@ -209,8 +216,9 @@ class Candidate:
     def pointed_at(self) -> bool:
         """The screening pointed here: significant on the samples, on the envelopes or by the
         start count, or by its change as simulated where the first claim stood in for another
-        effect (all but the first earn a recalibration, not a claim on their own)."""
-        return self.significant or self.envelope_significant or self.count_evidence or self.stand_in_slot
+        effect, or the next round confirmed it (all but the first earn a recalibration, not a
+        claim on their own)."""
+        return self.significant or self.envelope_significant or self.count_evidence or self.stand_in_slot or bool(self.next_round)
 
     @property
     def claimed(self) -> bool:
@@ -350,6 +358,8 @@ class Candidate:
             "shrink_vs_control": self.shrink_vs_control,
             "training_shrink_vs_control": self.training_shrink_vs_control,
             "stand_in_slot": self.stand_in_slot,
+            "next_round": self.next_round,
+            "explained_by": self.explained_by,
             "p_vs_control": self.p_vs_control,
             "beyond_first": self.beyond_first,
             "together": self.together,

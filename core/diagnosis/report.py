@@ -224,6 +224,12 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
             # beside the best one, a flexible effect took up what the next round found to be another
             parts.append(f"confirmed beside {claimed[0].name} but not claimed, the next round (with {claimed[0].name} in the model) "
                          "did not confirm it: " + ", ".join(c.name + shrink(c) for c in dropped))
+        replaced = [c for c in candidates if c.explained_by]
+        if replaced:
+            # a reading error the first round claimed, which the physical effect the next round
+            # found on top of it explains (run.reading_error_explained)
+            parts.append("; ".join(f"in place of {c.name}, claimed first ({beyond(c)}): on top of {c.explained_by} alone it "
+                                   f"adds {c.beyond_first:.0%}, under the {c.min_shrink:.0%} a claim needs" for c in replaced))
         if len(claimed) > 1:
             # a further claim at the bounds of its ranges may stand in for what the first did not
             # fit exactly (a flow-thermometer offset of 2 K beside an air backup heater fitted at

@@ -666,7 +666,9 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
     else:
         result = next((r for r in shrink if r.get("effect") == best.name and r.get("run") and "solution" in r), None)
         value = best.gap_shrink if best.gap_shrink is not None else math.nan
-        links = [{"effect": best.name}]
+        # where it ended: a later round's reading_error_explained starts from it
+        links = [{"effect": best.name, "effect_parameters": dict(result.get("effect_parameters") or {}) if result else {},
+                  "parameters": dict(result.get("parameters") or {}) if result else {}}]
     chain = [{"round": 1, **link, "gap_shrink": value, "cumulative_shrink": value, "run": result.get("run") if result else None}
              for link in links]
     if ctx.config.iterations <= 1 or result is None:
@@ -703,6 +705,75 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
         cumulative = 1.0 - (1.0 - previous) * (1.0 - step) if math.isfinite(previous) and math.isfinite(step) else math.nan
         chain.append({**link, "round": len(chain) + 1, "cumulative_shrink": cumulative})
     return chain
+
+
+def reading_error_explained(ctx, candidates: list[Candidate], chain: list[dict], shrink: list[dict], nuisance, control,
+                            folder: Path, say) -> tuple[list[Candidate], list[dict]]:
+    """A reading error claimed first and a physical effect the next round confirmed on top of
+    it: the physical effect recalibrated alone on this round's solution, then the reading error
+    on top of it. Where the reading error then adds less than its threshold, the physical effect
+    explains all it did and more: it leads the chain, and the reading error is not claimed
+    (``Candidate.explained_by``). (candidates in their new order, the chain); both as given
+    where the test does not apply or the physical effect alone is not confirmed.
+
+    The reverse of :func:`on_top_of_first`, across rounds. In hourly water-to-water records a
+    small generator heat loss lowers the supply temperature by a nearly constant amount once the
+    heating curve is re-tuned, and a supply thermometer's offset fits that first (89 % of the
+    supply's residual; the heat loss had 1 % and no recalibration); with the offset in the
+    model, round 2 confirmed the heat loss, and its joint fit moved the offset from -0.41 K back
+    to +0.14 K (blind case 6307, a heat loss of 90 W/K; also 6007). Where the offset is the
+    truth, the next round finds no heat loss on top of it and nothing is tested; where both are
+    there, the offset adds on top of the heat loss alone and both stay claimed. The joint
+    recalibration starts where the next round's ended, so it does not stop short of the fit
+    the two already reached together (``may_take_the_lead`` keeps a reading error first for
+    that reason within one round)."""
+    if len(chain) < 2 or chain[0].get("together_with") or chain[0].get("round") != 1:
+        return candidates, chain
+    by_name = {c.name: c for c in candidates}
+    first = by_name.get(chain[0]["effect"])
+    if first is None or not first.reading_error or not first.claimed:
+        return candidates, chain
+    link = chain[1]  # the next round's, on top of the reading error alone
+    physical = by_name.get(link["effect"])
+    if physical is None or physical.reading_error or physical.addition is None or link.get("together_with"):
+        return candidates, chain
+    first_result = recalibrated(shrink, first.name)
+    if first_result is None:
+        return candidates, chain
+    say(f"{physical.name}, confirmed in round {link['round']} on top of {first.name}: recalibrating it alone, then "
+        f"{first.name} on top of it")
+    alone = recalibrated(shrink, physical.name)
+    if alone is None:
+        physical.next_round = first.name
+        if link.get("effect_parameters") and not ctx.found_before.get(physical.name):
+            ctx.found_before[physical.name] = dict(link["effect_parameters"])
+        _recalibrate_each(ctx, [physical], nuisance, control, folder, shrink, say)
+        alone = recalibrated(shrink, physical.name)
+    if alone is None or not physical.claimed:
+        say(f"  {physical.name} alone is not confirmed: {first.name} stays first")
+        return candidates, chain
+    # the joint search from where the next round's fit of the two ended
+    joint = {**(first_result.get("parameters") or {}), **(link.get("parameters") or {})}
+    result, value = _added_on_top(ctx, physical, alone, first, shrink, folder, say, joint_start=joint or None)
+    shrink.append(result)
+    if value is None or value >= first.min_shrink:
+        return candidates, chain
+    say(f"  {first.name} adds {value:.0%} on top of {physical.name} alone: {physical.name} leads")
+    first.beyond_first, first.first, first.explained_by = value, physical.name, physical.name
+    physical.beyond_first, physical.first = None, None
+    head = {"round": 1, "effect": physical.name, "gap_shrink": physical.gap_shrink, "cumulative_shrink": physical.gap_shrink,
+            "run": alone.get("run"), "effect_parameters": dict(alone.get("effect_parameters") or {}),
+            "parameters": dict(alone.get("parameters") or {}), "in_place_of": first.name, "reading_error_adds": value}
+    rest = []
+    for later in chain[2:]:  # further rounds went on from the two together; their own shrinks stand
+        previous = (rest or [head])[-1]["cumulative_shrink"]
+        step = later["gap_shrink"]
+        cumulative = 1.0 - (1.0 - previous) * (1.0 - step) if math.isfinite(previous) and math.isfinite(step) else math.nan
+        rest.append({**later, "round": len(rest) + 2, "cumulative_shrink": cumulative})
+    for key in ("stopped", "further_error"):
+        if key in chain[-1] and not rest:
+            head[key] = chain[-1][key]
+    return [physical] + [c for c in candidates if c is not physical], [head] + rest
 
 
 def unconfirmed_next(candidates: list[Candidate], chain: list[dict]) -> list[Candidate]:
@@ -857,6 +928,8 @@ def diagnose(
     chain = further_effects(ctx, candidates, shrink, folder, say)
     for c in unconfirmed_next(candidates, chain):
         say(f"{c.name}: claimed beside {chain[0]['effect']}, not by the next round: not claimed")
+    if chosen:
+        candidates, chain = reading_error_explained(ctx, candidates, chain, shrink, nuisance, control, folder, say)
     restart, again = None, None
     if not chain and not any(c.claimed for c in candidates) and unconverged(ctx, control):
         restart, again = restart_from_control(control, folder, ctx.config, say)
