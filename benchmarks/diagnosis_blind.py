@@ -2560,6 +2560,36 @@ def sixty_second_cases(models: list[str]) -> list[BlindCase]:
     return [c for c in out if c.model in models]
 
 
+def sixty_third_cases(models: list[str]) -> list[BlindCase]:
+    """A sixty-third blind set (issue 14), written and committed in session 68 before any of it
+    ran and after the change it is to test (``diagnosis.run.reading_error_explained``: a
+    thermometer's offset claimed in round 1 and a physical effect the next round confirmed on
+    top of it; the physical effect recalibrated alone, and the offset not claimed where it then
+    adds less than its threshold). Its ground and its risk: weak generator and condenser heat
+    losses, which an offset of the supply thermometer imitates (the rule's gain); pure offsets
+    of the same thermometers, where the rule must not put a heat loss in their place; an offset
+    and a heat loss together, where both must stay claimed; two null cases. Seeds 6401-6412."""
+    B = BlindCase
+    air, w2w = "air_source_hp", "water_to_water_hp"
+    out = [
+        B(w2w, "heat_loss", strength={"UALossGen": 70.0}, seed=6401, seasons=WINTER, noise_scale=1.5),
+        B(w2w, "heat_loss", strength={"UALossGen": 120.0}, seed=6402, seasons=MIXED, noise_scale=2.0),
+        B(w2w, "heat_loss", strength={"UALossGen": 160.0}, seed=6403, seasons=AUTUMN),
+        B(air, "heat_loss", strength={"UALossCon": 10.0, "UALossPipe": 3.0}, seed=6404, seasons=AUTUMN, noise_scale=1.5),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.3, 1.0)}, seed=6405, seasons=AUTUMN, noise_scale=1.5),
+        B(w2w, "sensor_offset_gain", sensor={"TSup_K": (-0.5, 1.0)}, seed=6406, seasons=WINTER),
+        B(air, "sensor_offset_gain", sensor={"THCFlow_K": (-0.4, 1.0)}, seed=6407, seasons=MIXED),
+        # pairs: an offset and a heat loss, both there (both signs of the offset)
+        B(w2w, "heat_loss", strength={"UALossGen": 200.0}, sensor={"TSup_K": (-0.4, 1.0)}, seed=6408, seasons=MIXED),
+        B(w2w, "heat_loss", strength={"UALossGen": 120.0}, sensor={"TSup_K": (0.3, 1.0)}, seed=6409, seasons=AUTUMN),
+        B(air, "heat_loss", strength={"UALossCon": 25.0}, sensor={"THCFlow_K": (-0.3, 1.0)}, seed=6410, seasons=WINTER),
+        # null cases
+        B(w2w, None, seed=6411, seasons=AUTUMN, noise_scale=1.5),
+        B(air, None, seed=6412, seasons=MIXED, noise_scale=1.5),
+    ]
+    return [c for c in out if c.model in models]
+
+
 def combination_cases(models: list[str]) -> list[BlindCase]:
     return [BlindCase(model, first, also=(second,), seed=201 + i)
             for model in models for i, (first, second) in enumerate(COMBINATIONS.get(model, []))]
@@ -2602,7 +2632,7 @@ BLIND_SETS = {
     "fifty_third": fifty_third_cases, "fifty_fourth": fifty_fourth_cases, "fifty_fifth": fifty_fifth_cases, "fifty_sixth": fifty_sixth_cases,
     "fifty_seventh": fifty_seventh_cases, "fifty_eighth": fifty_eighth_cases, "fifty_ninth": fifty_ninth_cases,
     "sixtieth": sixtieth_cases, "sixty_first": sixty_first_cases,
-    "sixty_second": sixty_second_cases,
+    "sixty_second": sixty_second_cases, "sixty_third": sixty_third_cases,
 }
 """The blind sets by their command-line flag (``--fifteenth``), each fixed before any of it ran."""
 
