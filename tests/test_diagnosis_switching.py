@@ -339,24 +339,52 @@ def test_minimum_speed_is_running_where_the_unit_is_seldom_off():
 
 
 def test_an_effect_of_alternatives_adds_only_the_best_screened_parameter():
-    from simgap.diagnosis.ranking import effect_settings, only_the_best_alternative
+    from simgap.diagnosis.ranking import alternative_settings, only_the_best_alternative
     from simgap.interfaces import EffectParameter
 
     params = tuple(EffectParameter(f"inputGain_{n}", 1.0, 0.6, 1.4, neutral=1.0) for n in ("fan", "flow", "speed", "rh"))
     around = tuple({"apply": "input_gain", "variable": n, "gain": f"inputGain_{n}"} for n in ("fan", "flow", "speed", "rh"))
     addition = EffectAddition(switch={}, parameters=params, around=around)
-    # each of the four inputs alone (not only the first three), and no joint settings
-    settings = effect_settings(addition, per_parameter=len(params), joint=0)
-    assert len(settings) == 1 + 2 * 4
-    assert all(sum(v != 1.0 for v in s.values()) <= 1 for s in settings)
+    # each of the four inputs alone (not only the first three), and no joint settings; a gain's
+    # typical value is its neutral one, which is no setting at all
+    settings = alternative_settings(addition)
+    assert len(settings) == 2 * 4
+    assert all(sum(v != 1.0 for v in s.values()) == 1 for s in settings)
     responses = [(s, {"T": np.full(3, float(k))}) for k, s in enumerate(settings)]
     best = next(k for k, s in enumerate(settings) if s["inputGain_flow"] != 1.0)
     narrowed, kept, index = only_the_best_alternative(addition, responses, best)
     assert [p.name for p in narrowed.parameters] == ["inputGain_flow"]
     assert [e["variable"] for e in narrowed.around] == ["flow"]
-    # the typical setting and the flow's two settings stay, each with the flow's gain only
-    assert [set(s) for s, _ in kept] == [{"inputGain_flow"}] * 3
+    # the flow's two settings stay, each with the flow's gain only
+    assert [set(s) for s, _ in kept] == [{"inputGain_flow"}] * 2
     assert kept[index][1]["T"][0] == float(best)
+
+
+def test_one_readings_time_constant_is_screened_with_every_other_reading_unlagged():
+    """A sensor time constant's typical value (two sample intervals) is not its neutral one.
+    With the other readings at their typical values every screened setting lagged every reading;
+    where the best target's own lag was best at its typical value, the tie went to the setting
+    that lagged them all, and the recalibration took every reading's lag (19 of 34 zone
+    diagnoses). Each reading's settings now leave the others at their neutral value, and the
+    best one narrows the recalibration to that reading's lag alone."""
+    from simgap.diagnosis.ranking import alternative_settings, only_the_best_alternative
+    from simgap.interfaces import EffectParameter
+
+    params = tuple(EffectParameter(f"tauSensor_{n}", 1200.0, 30.0, 12000.0, "s", "log", neutral=30.0) for n in ("T_zone", "P_el"))
+    around = tuple({"apply": "output_lag", "variable": n, "tau": f"tauSensor_{n}"} for n in ("T_zone", "P_el"))
+    addition = EffectAddition(switch={}, parameters=params, around=around)
+    settings = alternative_settings(addition, from_record=[{"tauSensor_P_el": 900.0}])
+    assert len(settings) == 2 * 3 + 1
+    assert all(sum(v != 30.0 for v in s.values()) == 1 for s in settings)
+    assert settings[0] == {"tauSensor_T_zone": 1200.0, "tauSensor_P_el": 30.0}
+    assert settings[-1] == {"tauSensor_T_zone": 30.0, "tauSensor_P_el": 900.0}
+    best = settings.index({"tauSensor_T_zone": 30.0, "tauSensor_P_el": 1200.0})  # the power meter's own lag, typical
+    narrowed, kept, index = only_the_best_alternative(addition, [(s, {}) for s in settings], best)
+    assert [p.name for p in narrowed.parameters] == ["tauSensor_P_el"]
+    assert [e["variable"] for e in narrowed.around] == ["P_el"]
+    assert [s for s, _ in kept] == [{"tauSensor_P_el": v} for v in (1200.0, settings[4]["tauSensor_P_el"],
+                                                                    settings[5]["tauSensor_P_el"], 900.0)]
+    assert kept[index][0] == {"tauSensor_P_el": 1200.0}
 
 
 def test_a_near_claim_at_its_bounds_gives_the_stand_in_its_slot():

@@ -701,6 +701,38 @@ def effect_settings(addition: EffectAddition, per_parameter: int = 3, joint: int
     return settings + [v for v in suggested if v not in settings]
 
 
+def _neutral(p) -> float:
+    """The value at which a parameter does nothing (its default where it declares none)."""
+    return float(p.neutral) if p.neutral is not None else float(p.default)
+
+
+def alternative_settings(addition: EffectAddition, from_record: list | tuple = ()) -> list[dict[str, float]]:
+    """The settings of an effect whose parameters are alternative causes
+    (:attr:`simgap.Effect.alternatives`): each parameter alone at its typical value, then at 20 %
+    and 80 % of its range (or at its own screening values), every other one at its neutral
+    value; then the settings the record suggests, the rest neutral. One reading's time constant,
+    not every one at once: with the others at their typical values (a sensor time constant's is
+    two sample intervals, not its neutral one) every setting lagged every reading, and where
+    the best target's own lag was best at its typical value, the tie went to the first setting,
+    which lagged all of them, and the recalibration took every reading's lag (19 of 34 zone
+    diagnoses, ``benchmarks/alternatives_choice.py``)."""
+    rest = {p.name: _neutral(p) for p in addition.parameters}
+    settings: list[dict[str, float]] = []
+
+    def add(setting):
+        if setting != rest and setting not in settings:
+            settings.append(setting)
+
+    for p in addition.parameters:
+        for v in [p.default] + (list(p.screen) if p.screen else [_at(p, 0.2), _at(p, 0.8)]):
+            add({**rest, p.name: float(v)})
+    for setting in from_record:
+        values = _within_ranges(addition, setting)
+        if values:
+            add({**rest, **values})
+    return settings
+
+
 def alternative_setting(sample: tuple[int | None, float], envelope: tuple[int | None, float]) -> int | None:
     """Of an effect whose parameters are alternative causes (one reading's time constant, not
     every one at once), the setting to recalibrate: (setting, chance-corrected share) found best
@@ -721,16 +753,31 @@ def only_the_best_alternative(addition: EffectAddition, responses: list, best: i
     parameters the best setting moves (and the ``around`` entries that name one of them), the
     settings that move nothing else, and the best one's index among them."""
     values = responses[best][0]
-    kept = {p.name for p in addition.parameters if values.get(p.name, p.default) != p.default}
+    kept = moved_alternatives(addition, values)
     if not kept or len(kept) == len(addition.parameters):
         return addition, responses, best
-    named = [(_names_parameters(e, addition), e) for e in addition.around]
-    around = tuple(e for names, e in named if not names or names & kept)
-    narrowed = dataclasses.replace(addition, parameters=tuple(p for p in addition.parameters if p.name in kept), around=around)
-    others = {p.name: p.default for p in addition.parameters if p.name not in kept}
+    narrowed = one_alternative(addition, kept)
+    others = {p.name: _neutral(p) for p in addition.parameters if p.name not in kept}
     chosen = [k for k, (setting, _) in enumerate(responses) if all(setting.get(n, d) == d for n, d in others.items())]
     trimmed = [({n: v for n, v in responses[k][0].items() if n in kept}, responses[k][1]) for k in chosen]
     return narrowed, trimmed, chosen.index(best)
+
+
+def moved_alternatives(addition: EffectAddition, values: dict[str, float]) -> set[str]:
+    """The parameters of an effect of alternatives that ``values`` moves off their neutral value."""
+    return {p.name for p in addition.parameters if values.get(p.name, _neutral(p)) != _neutral(p)}
+
+
+def one_alternative(addition: EffectAddition, kept: set[str]) -> EffectAddition:
+    """The addition with only the parameters ``kept`` and the ``around`` entries that name one of
+    them (or none): the other alternatives are not applied at all. At its neutral value a
+    reading's time constant still lags the reading a little (the lower bound of its range, 30 s
+    on 10-min records), and the screening standardises each simulated change: that trace looked
+    like the reading's own lag at full size and took the best setting from it (the zone
+    thermometer's 1500-s time constant, blind seed 71, recalibrated as the power meter's lag)."""
+    named = [(_names_parameters(e, addition), e) for e in addition.around]
+    around = tuple(e for names, e in named if not names or names & kept)
+    return dataclasses.replace(addition, parameters=tuple(p for p in addition.parameters if p.name in kept), around=around)
 
 
 def _names_parameters(entry, addition: EffectAddition) -> set[str]:
@@ -758,10 +805,14 @@ def effect_responses(ctx: Context, addition: EffectAddition, alternatives: bool 
     ``from_record``: settings the measured record suggests (:func:`effect_settings`)."""
     base = ctx.joined("simulated")
     out = []
-    settings = (effect_settings(addition, per_parameter=len(addition.parameters), joint=0, from_record=from_record) if alternatives
-                else effect_settings(addition, from_record=from_record))
+    settings = alternative_settings(addition, from_record) if alternatives else effect_settings(addition, from_record=from_record)
     for values in settings:
-        series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values}, addition)
+        if alternatives:  # each alternative alone, the others not applied (one_alternative)
+            kept = moved_alternatives(addition, values)
+            series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **{k: v for k, v in values.items() if k in kept}},
+                                   one_alternative(addition, kept))
+        else:
+            series = _simulate_all(ctx, {**ctx.parameters, **addition.switch, **values}, addition)
         if series is not None:
             out.append((values, {t: series[t] - base[t] for t in ctx.targets}))
     return out
