@@ -432,7 +432,9 @@ class Effect(ABC):
     alternatives: ClassVar[bool] = False
     """True when each of the effect's parameters is a cause of its own (a gain error on each
     measured input: one meter is off, not all at once). The screening then tries each
-    parameter alone and no joint settings, and the recalibration adds only the parameter of
+    parameter alone, with the ``around`` entries of the others not applied at all (so declare
+    ``neutral`` on each parameter: the value at which it does nothing), and no joint settings;
+    the recalibration adds only the parameter of
     the setting that explained the residual best (with the ``around`` entries that name it):
     gains on five inputs searched together traded off against each other, and a flow meter's
     gain, found at 1.175 for a true 1/0.85, came with gains on the fan, the compressor signal
