@@ -700,11 +700,14 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
     if not further["chain"]:
         chain[-1]["stopped"] = "no further effect confirmed"
     for link in further["chain"]:
-        previous = chain[-1]["cumulative_shrink"]
-        step = link["gap_shrink"]
-        cumulative = 1.0 - (1.0 - previous) * (1.0 - step) if math.isfinite(previous) and math.isfinite(step) else math.nan
-        chain.append({**link, "round": len(chain) + 1, "cumulative_shrink": cumulative})
+        chain.append({**link, "round": len(chain) + 1, "cumulative_shrink": compounded(chain[-1]["cumulative_shrink"], link["gap_shrink"])})
     return chain
+
+
+def compounded(previous: float, step: float) -> float:
+    """The cumulative shrink of the original gap after one more round's ``step`` (shrinks of the
+    gap above the noise floor compound: 1 − (1 − previous)(1 − step))."""
+    return 1.0 - (1.0 - previous) * (1.0 - step) if math.isfinite(previous) and math.isfinite(step) else math.nan
 
 
 def reading_error_explained(ctx, candidates: list[Candidate], chain: list[dict], shrink: list[dict], nuisance, control,
@@ -766,10 +769,8 @@ def reading_error_explained(ctx, candidates: list[Candidate], chain: list[dict],
             "parameters": dict(alone.get("parameters") or {}), "in_place_of": first.name, "reading_error_adds": value}
     rest = []
     for later in chain[2:]:  # further rounds went on from the two together; their own shrinks stand
-        previous = (rest or [head])[-1]["cumulative_shrink"]
-        step = later["gap_shrink"]
-        cumulative = 1.0 - (1.0 - previous) * (1.0 - step) if math.isfinite(previous) and math.isfinite(step) else math.nan
-        rest.append({**later, "round": len(rest) + 2, "cumulative_shrink": cumulative})
+        rest.append({**later, "round": len(rest) + 2,
+                     "cumulative_shrink": compounded((rest or [head])[-1]["cumulative_shrink"], later["gap_shrink"])})
     for key in ("stopped", "further_error"):
         if key in chain[-1] and not rest:
             head[key] = chain[-1][key]
