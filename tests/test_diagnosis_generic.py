@@ -341,6 +341,12 @@ def test_the_host_holds_no_heat_pump_model_knowledge():
 
 
 @pytest.mark.slow  # two rounds of screening and recalibration (~40 s)
+@pytest.mark.xfail(strict=True, reason=(
+    "since f835e62 (a claim must also fit the training data better than re-tuning; for an effect re-tuning "
+    "reproduces, by the whole threshold): the 500-W internal-gain deficit is confirmed 39 % beyond re-tuning "
+    "on validation but 3 % on training, where UA_env makes 99 % of its change, as on blind set 59's zone null "
+    "case the rule was chosen on (42 % / 13 %) and blind case 6407 (62 % / 13 %, a true offset): the two are "
+    "not told apart by these figures (docs/diagnosis_bench.md, session 68)"))
 def test_two_withheld_effects_are_found_one_round_after_the_other(tmp_path):
     """A slow zone sensor and 500 W of internal gains fewer than the model assumes (a load
     the tuners do not cover): the first round confirms one, the model recalibrated with it is
