@@ -120,6 +120,11 @@ class Candidate:
     """The training-gap shrink beyond the control, where the effect was confirmed on validation
     (None where it was confirmed on training, or not recalibrated): how much better the effect
     fitted the data it was fitted to than re-tuning alone did."""
+    polished: dict | None = None
+    """Where the effect's recalibration and the control were both carried to their local optimum
+    (:func:`simgap.diagnosis.run.polish_both`): the shrink beyond re-tuning there, on validation
+    and training (``gap_shrink_vs_control``, ``gap_shrink_vs_control_training``) and the chance
+    of each being noise (``p_vs_control``, ``p_vs_control_training``)."""
     confirm_significance: float = 0.05
     beyond_first: float | None = None
     """For an effect confirmed besides a better one: the further shrink when it is added on top
@@ -279,8 +284,17 @@ class Candidate:
         if not (self.gap_shrink is not None and self.shrink_vs_control is not None and self.shrink_vs_control >= self.min_shrink
                 and self.training_shrink_vs_control is not None):
             return False
-        needed = TRAINING_AT_LEAST_LIKE_RETUNING if self.reproduced()[0] >= LIKE_RETUNING else TRAINING_AT_LEAST
+        if self.imitated and self.polished:
+            # at both searches' optima the question is answered directly: the gain stands there or not
+            return not (self.polished["gap_shrink_vs_control"] >= self.min_shrink
+                        and self.polished["p_vs_control"] <= self.confirm_significance)
+        needed = TRAINING_AT_LEAST_LIKE_RETUNING if self.imitated else TRAINING_AT_LEAST
         return self.training_shrink_vs_control < needed * self.min_shrink
+
+    @property
+    def imitated(self) -> bool:
+        """Re-tuning reproduces at least ``LIKE_RETUNING`` of the effect's simulated change."""
+        return self.reproduced()[0] >= LIKE_RETUNING
 
     def reproduced(self) -> tuple[float, str | None, str | None]:
         """(share of the effect's simulated change that re-tuning reproduces, the tuner most like
@@ -357,6 +371,7 @@ class Candidate:
             "gap_shrink": self.gap_shrink,
             "shrink_vs_control": self.shrink_vs_control,
             "training_shrink_vs_control": self.training_shrink_vs_control,
+            "polished": self.polished,
             "stand_in_slot": self.stand_in_slot,
             "next_round": self.next_round,
             "explained_by": self.explained_by,
