@@ -287,9 +287,11 @@ class Candidate:
                 and self.training_shrink_vs_control is not None):
             return False
         if self.imitated and self.polished:
-            # at both searches' optima the question is answered directly: the gain stands there or not
-            return not (self.polished["gap_shrink_vs_control"] >= self.min_shrink
-                        and self.polished["p_vs_control"] <= self.confirm_significance)
+            # at both searches' optima the search's shortfall is out of the figures, and the usual
+            # rule judges them: past the threshold and chance on validation, half of it on training
+            at = self.polished
+            return not (at["gap_shrink_vs_control"] >= self.min_shrink and at["p_vs_control"] <= self.confirm_significance
+                        and at["gap_shrink_vs_control_training"] >= TRAINING_AT_LEAST * self.min_shrink)
         needed = TRAINING_AT_LEAST_LIKE_RETUNING if self.imitated else TRAINING_AT_LEAST
         return self.training_shrink_vs_control < needed * self.min_shrink
 
