@@ -2656,6 +2656,10 @@ def main() -> None:
     parser.add_argument("--rediagnose", action="store_true",
                         help="diagnose again the base calibrations an earlier run of the same set left in --out (their case_result.json "
                              "names them; each is moved to case_result.before.json) instead of calibrating anew: a paired comparison")
+    parser.add_argument("--rescore", action="store_true",
+                        help="score the finished cases under --out again from their stored diagnoses (the scorer's rules of today: "
+                             "a reading effect claimed the wrong way round or on another reading scores as none) and print the table; "
+                             "nothing is diagnosed, nothing written")
     parser.add_argument("--shard", help="K/N: only every N-th case starting at the K-th (1-based), to split a set over processes")
     parser.add_argument("--reverse", action="store_true",
                         help="run the cases last first (a second process working towards one that runs them in order)")
@@ -2753,6 +2757,32 @@ def main() -> None:
             if found[case.label]:
                 print(f"{case.label:70s} best / truth training error {found[case.label]['ratio']:.2f}", flush=True)
             path.write_text(json.dumps(found, indent=2))
+        return
+    if args.rescore:
+        from simgap.models.blind import claim_scores
+
+        results = []
+        for case in todo:
+            done = _case_folder(root, case) / "case_result.json"
+            if not done.is_file():
+                continue
+            r = json.loads(done.read_text())
+            path = Path(r["report"]).with_name("diagnosis.json") if r.get("report") else None
+            if path is None or not path.is_file():
+                results.append(r)
+                continue
+            before = {k: r.get(k) for k in ("top1", "top3", "top1_same_physics")}
+            r.update(claim_scores(case, r["claimed"], r["ranking"], json.loads(path.read_text())))
+            if len(case.withheld) > 1:
+                r["effect"] = "+".join(case.withheld)
+                r["top1"], r["top3"] = r.get("first_claim_withheld", False), r.get("all_claimed", False)
+            changed = {k: (before[k], r.get(k)) for k in before if before[k] != r.get(k)}
+            if changed or any(v is False for v in r["reading_right"].values()):
+                print(f"{case.label:70s} claimed={','.join(r['claimed']) or '-'} reading_right={r['reading_right']} "
+                      + ", ".join(f"{k} {a} -> {b}" for k, (a, b) in changed.items()), flush=True)
+            results.append(r)
+        print()
+        print(table(results))
         return
     results = []
     t0 = time.perf_counter()

@@ -78,3 +78,38 @@ def test_the_reach_of_a_perfect_recalibration_tells_decidable_cases_from_undecid
     # the tuners that make the offset: the heat pump's efficiency and the envelope moved
     assert undecided["retuned"] != undecided["truth"]
     assert retuning_reach(BlindCase(ZONE, None, seed=73), tmp_path / "late") is None  # a null case has no reach
+
+
+def test_a_reading_effect_claimed_the_wrong_way_round_or_on_another_reading_is_not_scored_right():
+    """The bench's scorer checks a claimed reading effect against what was withheld: blind set
+    63's w2w pair (6409) claimed a supply-thermometer offset of -0.20 K for a true +0.3 K (the net
+    of the offset and a withheld heat loss), set 60's 6103 an input gain on the compressor signal
+    for a logged solar gain 1.4 times too high. Right ones: parameters of the stored claims."""
+    from simgap.models.blind import claimed_parameters, reading_right
+
+    w2w = "water_to_water_hp"
+    pair = BlindCase(w2w, "heat_loss", also=("sensor_offset_gain",), sensor={"TSup_K": (0.3, 1.0)}, seed=6409)
+    assert reading_right(pair, "sensor_offset_gain", {"gain_PEl_W": 0.983, "offset_TSup_K": -0.195}) is False
+    assert reading_right(pair, "sensor_offset_gain", {"gain_PEl_W": 0.99, "offset_TSup_K": 0.28}) is True
+    assert reading_right(pair, "heat_loss", {"UALossGen": 120.0}) is None  # a physical effect: not this check's
+    meter = BlindCase(ZONE, "sensor_offset_gain", sensor={"P_el_W": (0.0, 1.1)}, seed=76)
+    assert reading_right(meter, "sensor_offset_gain", {"offset_T_zone": 0.006, "gain_P_el": 1.102}) is True
+    assert reading_right(meter, "sensor_offset_gain", {"offset_T_zone": 0.3, "gain_P_el": 0.95}) is False
+    solar = BlindCase(ZONE, "input_gain_error", input_gain={"Q_sol_W": 1.4}, seed=6103)
+    assert reading_right(solar, "input_gain_error", {"inputGain_u_hp": 1.02}) is False  # another input
+    assert reading_right(solar, "input_gain_error", {"inputGain_Q_sol": 0.72}) is True  # multiplied back
+    signal = BlindCase(ZONE, "input_gain_error", input_gain={"u_hp": 0.9}, seed=78)
+    assert reading_right(signal, "input_gain_error", {"inputGain_u_hp": 1.115}) is True
+    late = BlindCase(ZONE, "clock_shift", shift_s=-2400.0, seed=74)
+    assert reading_right(late, "clock_shift", {"clockShift": -2404.8}) is True
+    assert reading_right(late, "clock_shift", {"clockShift": 2400.0}) is False
+    slow = BlindCase(ZONE, "sensor_time_constant", lag={"T_zone_degC": 1500.0}, seed=71)
+    assert reading_right(slow, "sensor_time_constant", {"tauSensor_T_zone": 1463.0}) is True
+    assert reading_right(slow, "sensor_time_constant", {"tauSensor_P_el": 1200.0}) is False
+    # the claim's parameters: its chain link first, else its last recalibration
+    result = {"chain": [{"effect": "sensor_offset_gain", "effect_parameters": {"offset_TSup_K": -0.195}}],
+              "recalibration": [{"effect": "sensor_offset_gain", "effect_parameters": {"offset_TSup_K": 0.1}},
+                                {"effect": "clock_shift", "effect_parameters": {"clockShift": 60.0}}]}
+    assert claimed_parameters(result, "sensor_offset_gain") == {"offset_TSup_K": -0.195}
+    assert claimed_parameters(result, "clock_shift") == {"clockShift": 60.0}
+    assert claimed_parameters(result, "heat_loss") is None

@@ -434,6 +434,59 @@ def same_physics(effect: str | None) -> set[str]:
     return {effect} if effect else set()
 
 
+def _on(column: str, suffix: str) -> bool:
+    """Whether an effect parameter's suffix (a target or input name, ``_safe`` as the generic
+    effects write it) names the measured ``column`` (``T_zone`` for ``T_zone_degC``)."""
+    import re
+
+    safe = re.sub(r"\W", "_", column)
+    # the column may carry one unit token more than the model's name: T_zone_degC, P_el_W
+    return safe == suffix or re.fullmatch(re.escape(suffix) + r"_[A-Za-z0-9]+", safe) is not None
+
+
+def reading_right(case: BlindCase, effect: str, found: Mapping[str, float] | None) -> bool | None:
+    """Whether a claimed reading effect acts on the reading (or input) it was withheld on, the
+    right way round: a thermometer's offset of the truth's sign, a meter's gain on the truth's
+    side of 1, a logged input's gain on the other side (the model's input is multiplied back),
+    a clock shift of the truth's sign, a time constant on the lagged reading. None where the
+    effect is not a withheld reading effect or its parameters are unknown. A claim of the right
+    name the wrong way round (blind set 63's w2w pair 6409: a supply-thermometer offset of
+    -0.20 K for a true +0.3 K beside a withheld heat loss, the net of the two) or on another input
+    (set 60's 6103: the compressor signal's gain for a logged solar gain 1.4 times too high) is
+    no finding of the withheld effect, and the bench does not score it as one."""
+    if effect not in case.withheld or effect not in SENSOR_EFFECTS or not found:
+        return None
+    checks = []
+    if effect == "sensor_offset_gain":
+        for column, (offset, gain) in case.sensor.items():
+            if offset:
+                value = next((v for k, v in found.items() if k.startswith("offset_") and _on(column, k[len("offset_"):])), None)
+                checks.append(value is not None and value * offset > 0)
+            if gain != 1.0:
+                value = next((v for k, v in found.items() if k.startswith("gain_") and _on(column, k[len("gain_"):])), None)
+                checks.append(value is not None and (value - 1.0) * (gain - 1.0) > 0)
+    elif effect == "input_gain_error":
+        for column, factor in case.input_gain.items():
+            value = next((v for k, v in found.items() if k.startswith("inputGain_") and _on(column, k[len("inputGain_"):])), None)
+            checks.append(value is not None and (value - 1.0) * (factor - 1.0) < 0)
+    elif effect == "clock_shift":
+        checks.append(float(found.get("clockShift", 0.0)) * case.shift_s > 0)
+    elif effect == "sensor_time_constant":
+        for column in case.lag:
+            checks.append(any(k.startswith("tauSensor_") and _on(column, k[len("tauSensor_"):]) for k in found))
+    return all(checks) if checks else None
+
+
+def claimed_parameters(result: dict, effect: str) -> dict[str, float] | None:
+    """The effect parameters a diagnosis claimed ``effect`` with: its link in the chain, else its
+    (last) recalibration."""
+    for link in result.get("chain", []):
+        if link.get("effect") == effect and link.get("effect_parameters"):
+            return dict(link["effect_parameters"])
+    found = [r.get("effect_parameters") for r in result.get("recalibration", []) if r.get("effect") == effect and r.get("effect_parameters")]
+    return dict(found[-1]) if found else None
+
+
 def judged_shrinks(recalibration: dict) -> tuple[float | None, float | None]:
     """A recalibration's gap shrink and its shrink beyond re-tuning alone, on the data the
     diagnosis judged the effect on: an effect that acts (almost) only in the training data is
@@ -442,6 +495,33 @@ def judged_shrinks(recalibration: dict) -> tuple[float | None, float | None]:
     on = "_training" if recalibration.get("confirmed_on") == "training" else ""
     return (recalibration.get("gap_shrink" + on, recalibration.get("gap_shrink")),
             recalibration.get("gap_shrink_vs_control" + on, recalibration.get("gap_shrink_vs_control")))
+
+
+def claim_scores(case: BlindCase, claimed: list[str], ranking: list[str], result: dict) -> dict:
+    """A diagnosis's claims scored against ``case``'s truth: top-1 and top-3 (strict and the same
+    physics), for a combination whether the first claim is a withheld effect and whether all are
+    (in any round: ``result``'s chain), and ``reading_right`` per claimed withheld reading effect
+    (:func:`reading_right`; a claim the wrong way round or on another reading scores as none).
+    ``result``: the diagnosis's result or its ``diagnosis.json`` (chain, recalibrations)."""
+    withheld = case.withheld
+    right = {e: reading_right(case, e, claimed_parameters(result, e)) for e in claimed if e in withheld}
+    wrong = {e for e, ok in right.items() if ok is False}
+    chained = {link["effect"] for link in result.get("chain", [])}
+    return {
+        "reading_right": right,
+        "top1": (claimed[:1] == [case.effect] and case.effect not in wrong) if case.effect else not claimed,
+        "top3": (case.effect in ranking[:3]) if case.effect else not claimed,
+        # the same physics under its generic name counts here (a switch's sensor lag and the
+        # lag around the simulator); the strict figures above do not count it
+        "top1_same_physics": (bool(claimed) and claimed[0] in same_physics(case.effect) and claimed[0] not in wrong
+                              if case.effect else not claimed),
+        "top3_same_physics": bool(set(ranking[:3]) & same_physics(case.effect)) if case.effect else not claimed,
+        # a combination: the first claim is one of the withheld effects, and every one of them is claimed
+        "first_claim_withheld": bool(claimed) and claimed[0] in withheld and claimed[0] not in wrong,
+        # claimed in the first round or one round after another (the chain)
+        "all_claimed": bool(withheld) and set(withheld) <= (set(claimed) | chained) - wrong,
+        "chain": [link["effect"] for link in result.get("chain", [])],
+    }
 
 
 def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int | None = 2, optimiser: str | None = None,
@@ -498,18 +578,8 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         "effect": case.effect,
         "claimed": claimed,
         "ranking": ranking,
-        "top1": (claimed[:1] == [case.effect]) if case.effect else not claimed,
-        "top3": (case.effect in ranking[:3]) if case.effect else not claimed,
-        # the same physics under its generic name counts here (a switch's sensor lag and the
-        # lag around the simulator); the strict figures above do not count it
-        "top1_same_physics": bool(claimed) and claimed[0] in same_physics(case.effect) if case.effect else not claimed,
-        "top3_same_physics": bool(set(ranking[:3]) & same_physics(case.effect)) if case.effect else not claimed,
-        # a combination: the first claim is one of the withheld effects, and every one of them is claimed
         "withheld": withheld,
-        "first_claim_withheld": bool(claimed) and claimed[0] in withheld,
-        # claimed in the first round or one round after another (the chain)
-        "all_claimed": bool(withheld) and set(withheld) <= set(claimed) | {link["effect"] for link in result.get("chain", [])},
-        "chain": [link["effect"] for link in result.get("chain", [])],
+        **claim_scores(case, claimed, ranking, result),
         "shrink": truth_shrink,
         "closed": closed,
         "beyond_control": beyond,
