@@ -145,8 +145,16 @@ class BlindCase:
         return f"{self.model}:{what}{'(' + extra + ')' if extra else ''}:seed{self.seed}"
 
 
+ZONE_TRUTH_EFFECTS = {"extra_heat_load": "Q_int"}
+"""Effects withheld from the quickstart zone through its plant's truth, not a switch: the plant
+of the case's record runs with ``truth[parameter]`` (the internal gains, W) while the model keeps
+its own value; the generic ``extra_heat_load`` is the diagnosis's effect that can add it."""
+
+
 def _model_effects(case: BlindCase) -> dict[str, dict[str, float]]:
     """The model switches ``case`` turns on in its truth, with their settings."""
+    if case.model == ZONE and case.effect in ZONE_TRUTH_EFFECTS:
+        return {}  # the plant's own parameter, written through the truth (ZONE_TRUTH_EFFECTS)
     strength = {**VISIBLE_STRENGTH.get(case.model, {}).get(case.effect or "", {}), **case.strength}
     effects = {case.effect: strength} if case.effect and case.effect not in SENSOR_EFFECTS else {}
     for other in case.also:
@@ -345,8 +353,10 @@ def _write_zone_case(case: BlindCase, folder: Path) -> Path:
     and the shipped quickstart workflow pointed at it with the bench's budget."""
     import json
 
-    if _model_effects(case):
-        raise ValueError(f"{case.label}: the quickstart zone has no effect switches; only {', '.join(SENSOR_EFFECTS)} can be withheld")
+    if _model_effects(case) or (case.effect and case.effect not in SENSOR_EFFECTS
+                                and ZONE_TRUTH_EFFECTS.get(case.effect) not in case.truth):
+        raise ValueError(f"{case.label}: the quickstart zone has no effect switches; only {', '.join(SENSOR_EFFECTS)} can be "
+                         "withheld, or " + ", ".join(f"{e} through truth={{'{p}': ...}}" for e, p in ZONE_TRUTH_EFFECTS.items()))
     generator = _quickstart_generator()
     truth = {**BLIND_TUNERS[ZONE], **case.truth}
     frame, clean = generator.measured_data(case.noise_scale, case.seed, parameters=truth)
