@@ -2799,7 +2799,15 @@ def main() -> None:
                 results.append(r)
                 continue
             before = {k: r.get(k) for k in ("top1", "top3", "top1_same_physics")}
-            r.update(claim_scores(case, r["claimed"], r["ranking"], json.loads(path.read_text())))
+            stored = json.loads(path.read_text())
+            retuned = path.parent / "retuned" / "diagnosis.json"
+            if stored.get("restart") and retuned.is_file():
+                # diagnosed again from the re-tuned solution: its claims are that diagnosis's, and
+                # so are their chain and recalibrations (the last recalibration of an effect counts)
+                again = json.loads(retuned.read_text())
+                stored = {**stored, "chain": again.get("chain", []) + stored.get("chain", []),
+                          "recalibration": stored.get("recalibration", []) + again.get("recalibration", [])}
+            r.update(claim_scores(case, r["claimed"], r["ranking"], stored))
             if len(case.withheld) > 1:
                 r["effect"] = "+".join(case.withheld)
                 r["top1"], r["top3"] = r.get("first_claim_withheld", False), r.get("all_claimed", False)

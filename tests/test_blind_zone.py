@@ -83,8 +83,9 @@ def test_the_reach_of_a_perfect_recalibration_tells_decidable_cases_from_undecid
 def test_a_reading_effect_claimed_the_wrong_way_round_or_on_another_reading_is_not_scored_right():
     """The bench's scorer checks a claimed reading effect against what was withheld: blind set
     63's w2w pair (6409) claimed a supply-thermometer offset of -0.20 K for a true +0.3 K (the net
-    of the offset and a withheld heat loss), set 60's 6103 an input gain on the compressor signal
-    for a logged solar gain 1.4 times too high. Right ones: parameters of the stored claims."""
+    of the offset and a withheld heat loss); an input gain on the compressor signal for a logged
+    solar gain 1.4 times too high would be another input's. Right ones: parameters of stored
+    claims (set 60's 6103 found the solar input's gain at 0.736 for a truth of 1/1.4)."""
     from simgap.models.blind import claimed_parameters, reading_right
 
     w2w = "water_to_water_hp"
@@ -97,7 +98,7 @@ def test_a_reading_effect_claimed_the_wrong_way_round_or_on_another_reading_is_n
     assert reading_right(meter, "sensor_offset_gain", {"offset_T_zone": 0.3, "gain_P_el": 0.95}) is False
     solar = BlindCase(ZONE, "input_gain_error", input_gain={"Q_sol_W": 1.4}, seed=6103)
     assert reading_right(solar, "input_gain_error", {"inputGain_u_hp": 1.02}) is False  # another input
-    assert reading_right(solar, "input_gain_error", {"inputGain_Q_sol": 0.72}) is True  # multiplied back
+    assert reading_right(solar, "input_gain_error", {"inputGain_Q_sol": 0.736}) is True  # multiplied back
     signal = BlindCase(ZONE, "input_gain_error", input_gain={"u_hp": 0.9}, seed=78)
     assert reading_right(signal, "input_gain_error", {"inputGain_u_hp": 1.115}) is True
     late = BlindCase(ZONE, "clock_shift", shift_s=-2400.0, seed=74)

@@ -462,8 +462,8 @@ def reading_right(case: BlindCase, effect: str, found: Mapping[str, float] | Non
     effect is not a withheld reading effect or its parameters are unknown. A claim of the right
     name the wrong way round (blind set 63's w2w pair 6409: a supply-thermometer offset of
     -0.20 K for a true +0.3 K beside a withheld heat loss, the net of the two) or on another input
-    (set 60's 6103: the compressor signal's gain for a logged solar gain 1.4 times too high) is
-    no finding of the withheld effect, and the bench does not score it as one."""
+    (the compressor signal's gain for a logged solar gain) is no finding of the withheld effect,
+    and the bench does not score it as one."""
     if effect not in case.withheld or effect not in SENSOR_EFFECTS or not found:
         return None
     checks = []
