@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from simgap.models.blind import ZONE, BlindCase, write_case
 from simgap.setup import prepare
@@ -114,3 +115,34 @@ def test_a_reading_effect_claimed_the_wrong_way_round_or_on_another_reading_is_n
     assert claimed_parameters(result, "sensor_offset_gain") == {"offset_TSup_K": -0.195}
     assert claimed_parameters(result, "clock_shift") == {"clockShift": 60.0}
     assert claimed_parameters(result, "heat_loss") is None
+
+
+def test_a_zone_load_withheld_through_the_plants_truth_is_written_and_scored(tmp_path):
+    """Blind set 64's cases: the zone's plant with other internal gains than the model's. The
+    record differs from the model's at its own gains, the truth file holds the plant's value, and
+    the scorer's steps that know model switches (the searches' shortfall) take such a case (they
+    raised KeyError on set 64's first run, which lost six cases' scores)."""
+    from simgap.calibrate import calibrate
+    from simgap.models.blind import search_shortfall
+
+    less = BlindCase(ZONE, "extra_heat_load", truth={"Q_int": -200.0}, seed=6501)
+    assert less.withheld == ["extra_heat_load"]
+    workflow = write_case(less, tmp_path / "less")
+    truth = json.loads((workflow.parent / "measured.truth.json").read_text())["parameters"]
+    assert truth["Q_int"] == -200.0
+    as_model = BlindCase(ZONE, None, seed=6501)
+    plain = pd.read_parquet(write_case(as_model, tmp_path / "plain").parent / "measured.parquet")
+    written = pd.read_parquet(workflow.parent / "measured.parquet")
+    # 500 W less inside: a little colder, and the heat pump's controller works harder
+    assert float((plain["T_zone_degC"] - written["T_zone_degC"]).mean()) > 0.05
+    assert float(written["P_el_W"].mean()) > float(plain["P_el_W"].mean()) + 20.0
+    short = {"plugin": "nsga2", "options": {"population": 8}, "seed": 1, "budget": {"evaluations": 8}}
+    text = workflow.read_text()
+    import re
+    text = re.sub(r"optimiser:.*?\n(?=\S)", "optimiser: " + json.dumps(short) + "\n", text, count=1, flags=re.S)
+    workflow.write_text(text)
+    run_dir = calibrate(prepare(workflow), workers=1)
+    found = search_shortfall(less, workflow, [run_dir / "evaluations.parquet"])
+    assert found is not None and found["ratio"] > 0 and found["own"] == {"extra_heat_load": None}
+    with pytest.raises(ValueError, match="extra_heat_load through truth"):
+        write_case(BlindCase(ZONE, "extra_heat_load", seed=1), tmp_path / "no_truth")

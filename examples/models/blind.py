@@ -644,9 +644,12 @@ def search_shortfall(case: BlindCase, workflow: Path, searched: list[Path]) -> d
         ratios = [best[c] / v for c, v in errors.items() if c in best and v > 0]
         return max(ratios) if ratios else None
 
-    paths = [p for place in map(Path, searched) for p in ([place] if place.is_file() else place.rglob("evaluations.parquet"))]
+    # a run's log is a folder of parts named evaluations.parquet: itself a log, not a folder to search
+    paths = [p for place in map(Path, searched) if place.exists()
+             for p in ([place] if place.is_file() or place.name == "evaluations.parquet" else place.rglob("evaluations.parquet"))]
     best = lowest(paths)
-    switches = synth.MODELS[case.model].effects
+    # the zone's withheld effects live in its plant's truth (ZONE_TRUTH_EFFECTS): no switches
+    switches = synth.MODELS[case.model].effects if case.model in synth.MODELS else {}
     own = {}
     for effect in case.withheld:
         # .../recalibration/<effect>[_and_<other>]/runs/<run>/evaluations.parquet, with every
