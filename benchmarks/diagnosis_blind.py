@@ -2786,7 +2786,7 @@ def main() -> None:
             path.write_text(json.dumps(found, indent=2))
         return
     if args.rescore:
-        from simgap.models.blind import claim_scores
+        from simgap.models.blind import claim_scores, record_outdoor_k
 
         results = []
         for case in todo:
@@ -2807,7 +2807,7 @@ def main() -> None:
                 again = json.loads(retuned.read_text())
                 stored = {**stored, "chain": again.get("chain", []) + stored.get("chain", []),
                           "recalibration": stored.get("recalibration", []) + again.get("recalibration", [])}
-            r.update(claim_scores(case, r["claimed"], r["ranking"], stored))
+            r.update(claim_scores(case, r["claimed"], r["ranking"], stored, record_outdoor_k(case, _case_folder(root, case))))
             if len(case.withheld) > 1:
                 r["effect"] = "+".join(case.withheld)
                 r["top1"], r["top3"] = r.get("first_claim_withheld", False), r.get("all_claimed", False)

@@ -108,6 +108,15 @@ def test_a_reading_effect_claimed_the_wrong_way_round_or_on_another_reading_is_n
     slow = BlindCase(ZONE, "sensor_time_constant", lag={"T_zone_degC": 1500.0}, seed=71)
     assert reading_right(slow, "sensor_time_constant", {"tauSensor_T_zone": 1463.0}) is True
     assert reading_right(slow, "sensor_time_constant", {"tauSensor_P_el": 1200.0}) is False
+    # a zone load withheld through the plant's truth: the claimed load's sign at the record's
+    # mean outdoor temperature (set 64's 6501: -575 W - 4 W/K at 4 degC, for 500 W less: right;
+    # 6503: +157 W + 18 W/K, a net -130 W, for 500 W more: wrong)
+    less = BlindCase(ZONE, "extra_heat_load", truth={"Q_int": -200.0}, seed=6501)
+    more = BlindCase(ZONE, "extra_heat_load", truth={"Q_int": 800.0}, seed=6503)
+    assert reading_right(less, "extra_heat_load", {"extraLoad_Q_sol": -575.0, "extraLoadPerK_Q_sol": -4.0}, 277.15) is True
+    assert reading_right(more, "extra_heat_load", {"extraLoad_Q_sol": 157.0, "extraLoadPerK_Q_sol": 18.0}, 277.05) is False
+    assert reading_right(more, "extra_heat_load", {"extraLoad_Q_sol": 381.0, "extraLoadPerK_Q_sol": -4.0}, 277.05) is True
+    assert reading_right(more, "extra_heat_load", {"extraLoad_Q_sol": 381.0}) is None  # no record to weigh it on
     # the claim's parameters: its chain link first, else its last recalibration
     result = {"chain": [{"effect": "sensor_offset_gain", "effect_parameters": {"offset_TSup_K": -0.195}}],
               "recalibration": [{"effect": "sensor_offset_gain", "effect_parameters": {"offset_TSup_K": 0.1}},

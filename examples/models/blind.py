@@ -148,7 +148,12 @@ class BlindCase:
 ZONE_TRUTH_EFFECTS = {"extra_heat_load": "Q_int"}
 """Effects withheld from the quickstart zone through its plant's truth, not a switch: the plant
 of the case's record runs with ``truth[parameter]`` (the internal gains, W) while the model keeps
-its own value; the generic ``extra_heat_load`` is the diagnosis's effect that can add it."""
+its own value (``ZONE_MODEL_VALUES``); the generic ``extra_heat_load`` is the diagnosis's effect
+that can add it."""
+
+ZONE_MODEL_VALUES = {"Q_int": 300.0}
+"""The quickstart zone model's own values of the parameters ZONE_TRUTH_EFFECTS changes in the
+plant (examples/models/quickstart_zone/quickstart_zone.c)."""
 
 
 def _model_effects(case: BlindCase) -> dict[str, dict[str, float]]:
@@ -454,7 +459,8 @@ def _on(column: str, suffix: str) -> bool:
     return safe == suffix or re.fullmatch(re.escape(suffix) + r"_[A-Za-z0-9]+", safe) is not None
 
 
-def reading_right(case: BlindCase, effect: str, found: Mapping[str, float] | None) -> bool | None:
+def reading_right(case: BlindCase, effect: str, found: Mapping[str, float] | None,
+                  outdoor_k: float | None = None) -> bool | None:
     """Whether a claimed reading effect acts on the reading (or input) it was withheld on, the
     right way round: a thermometer's offset of the truth's sign, a meter's gain on the truth's
     side of 1, a logged input's gain on the other side (the model's input is multiplied back),
@@ -463,8 +469,23 @@ def reading_right(case: BlindCase, effect: str, found: Mapping[str, float] | Non
     name the wrong way round (blind set 63's w2w pair 6409: a supply-thermometer offset of
     -0.20 K for a true +0.3 K beside a withheld heat loss, the net of the two) or on another input
     (the compressor signal's gain for a logged solar gain) is no finding of the withheld effect,
-    and the bench does not score it as one."""
-    if effect not in case.withheld or effect not in SENSOR_EFFECTS or not found:
+    and the bench does not score it as one.
+
+    The same for a zone load withheld through the plant's truth (``ZONE_TRUTH_EFFECTS``): the
+    extra heat load claimed, at the record's mean outdoor temperature ``outdoor_k`` (K), must
+    have the sign of the plant's difference from the model (set 64's 6503 claimed a net −130 W
+    for 500 W more internal gain, the tuners taking up the rest)."""
+    if not found or effect not in case.withheld:
+        return None
+    if case.model == ZONE and effect in ZONE_TRUTH_EFFECTS:
+        parameter = ZONE_TRUTH_EFFECTS[effect]
+        if parameter not in case.truth or outdoor_k is None:
+            return None
+        difference = float(case.truth[parameter]) - ZONE_MODEL_VALUES[parameter]
+        constant = sum(v for k, v in found.items() if k.startswith("extraLoad_"))
+        per_kelvin = sum(v for k, v in found.items() if k.startswith("extraLoadPerK_"))
+        return (constant + per_kelvin * (outdoor_k - 293.15)) * difference > 0
+    if effect not in SENSOR_EFFECTS:
         return None
     checks = []
     if effect == "sensor_offset_gain":
@@ -507,14 +528,25 @@ def judged_shrinks(recalibration: dict) -> tuple[float | None, float | None]:
             recalibration.get("gap_shrink_vs_control" + on, recalibration.get("gap_shrink_vs_control")))
 
 
-def claim_scores(case: BlindCase, claimed: list[str], ranking: list[str], result: dict) -> dict:
+def record_outdoor_k(case: BlindCase, folder: Path) -> float | None:
+    """The mean outdoor temperature (K) of a zone case's written record (None for other models
+    or where it is not on disk): where :func:`reading_right` weighs a claimed load's per-kelvin part."""
+    import pandas as pd
+
+    path = Path(folder) / "measured.parquet"
+    if case.model != ZONE or not path.is_file():
+        return None
+    return float(pd.read_parquet(path, columns=["T_out_degC"])["T_out_degC"].mean()) + 273.15
+
+
+def claim_scores(case: BlindCase, claimed: list[str], ranking: list[str], result: dict, outdoor_k: float | None = None) -> dict:
     """A diagnosis's claims scored against ``case``'s truth: top-1 and top-3 (strict and the same
     physics), for a combination whether the first claim is a withheld effect and whether all are
     (in any round: ``result``'s chain), and ``reading_right`` per claimed withheld reading effect
     (:func:`reading_right`; a claim the wrong way round or on another reading scores as none).
     ``result``: the diagnosis's result or its ``diagnosis.json`` (chain, recalibrations)."""
     withheld = case.withheld
-    right = {e: reading_right(case, e, claimed_parameters(result, e)) for e in claimed if e in withheld}
+    right = {e: reading_right(case, e, claimed_parameters(result, e), outdoor_k) for e in claimed if e in withheld}
     wrong = {e for e, ok in right.items() if ok is False}
     chained = {link["effect"] for link in result.get("chain", [])}
     return {
@@ -589,7 +621,7 @@ def run_case(case: BlindCase, folder: Path, *, candidates: int = 3, workers: int
         "claimed": claimed,
         "ranking": ranking,
         "withheld": withheld,
-        **claim_scores(case, claimed, ranking, result),
+        **claim_scores(case, claimed, ranking, result, record_outdoor_k(case, Path(workflow).parent)),
         "shrink": truth_shrink,
         "closed": closed,
         "beyond_control": beyond,
