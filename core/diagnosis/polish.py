@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from .context import Context, simulate
-from .shrink import RESIDUALS, RESIDUALS_TRAINING, _above_noise, beyond_control, improvement_p_value
+from .shrink import RESIDUALS, RESIDUALS_TRAINING, beyond_control, improvement_p_value, scored_above_noise
 
 POLISH_SIMULATIONS = 120
 """Simulations each local search may run (Jacobians by finite differences included): about one
@@ -96,8 +96,8 @@ def polished_comparison(ctx: Context, effect_prepared, effect_params: dict[str, 
     for side, prepared, params in (("effect", effect_prepared, effect_params), ("control", control_prepared, control_params)):
         polished, spent = polish(ctx, prepared, params, weights, noise, simulations)
         res, res_training = {}, {}
-        above = _above_noise(ctx, prepared, polished, residuals=res)
-        above_training = _above_noise(ctx, prepared, polished, "training", residuals=res_training)
+        above = scored_above_noise(ctx, prepared, polished, residuals=res)
+        above_training = scored_above_noise(ctx, prepared, polished, "training", residuals=res_training)
         if not above or not above_training:
             return {"error": f"the polished {side} solution did not simulate"}
         found[side] = {"parameters": polished, "simulations": spent, "above_noise": above, "above_noise_training": above_training,

@@ -14,8 +14,9 @@ from .context import build_context
 from .ranking import AS_SIMULATED_SLOT, MODEST, REOPENS_AT_MOST, WITHIN_NOISE_SHRINK, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
 from .report import caveats, control_gap_shrink, noise_gaps, verdict, write
 from ..interfaces import EffectAddition
-from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, improvement_p_value, recalibrate,
-                     recalibration_evaluations, weak_end, within_noise)
+from .polish import polished_comparison
+from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, control_picked_for, improvement_p_value,
+                     recalibrate, recalibration_evaluations, weak_end, within_noise)
 from .warmstart import better_start, local_fit
 from .where import analyse, gap_warning
 
@@ -1114,12 +1115,10 @@ def polish_both(ctx, cand: Candidate, result: dict, control: dict, weights: dict
     as recalibrated, 18 % at the optima); at the optima it is the effect's own, and the usual
     rule judges it there (``Candidate.fitted_no_better``)."""
     from ..setup import prepare
-    from .polish import polished_comparison
-    from .shrink import _control_picked_for
 
     if not result.get("workflow") or not control.get("workflow"):
         return
-    picked = _control_picked_for(ctx, control, weights)
+    picked = control_picked_for(ctx, control, weights)
     say(f"  {cand.name} gains on validation, not where it was fitted, and a tuner makes its change: "
         "both searches carried to their local optimum and compared there")
     try:

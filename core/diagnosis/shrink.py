@@ -293,7 +293,7 @@ def against_control(ctx: Context, out: dict, control: dict, weights: dict[str, f
     """A recalibration's result (``out``) against the control's: the shrinks beyond it and the
     chance of each being noise, on validation and training, the control's front member picked
     with ``picked_by`` (default ``weights``)."""
-    control = _control_picked_for(ctx, control, weights if picked_by is None else picked_by)
+    control = control_picked_for(ctx, control, weights if picked_by is None else picked_by)
     judged = {"control_solution": control.get("solution")}
     judged["shrink_vs_control"], judged["gap_shrink_vs_control"] = beyond_control(out["above_noise"], control["above_noise"], weights)
     judged["shrink_vs_control_training"], judged["gap_shrink_vs_control_training"] = beyond_control(
@@ -324,8 +324,8 @@ def _against_effect_off(ctx: Context, out: dict, weights: dict[str, float], prep
         prepared = ctx.prepared
         params = {**ctx.parameters, **{k: v for k, v in out.get("parameters", {}).items() if k in set(ctx.prepared.space.names)}}
     off_residuals, off_training = {}, {}
-    above = _above_noise(ctx, prepared, params, residuals=off_residuals)
-    above_training = _above_noise(ctx, prepared, params, "training", residuals=off_training)
+    above = scored_above_noise(ctx, prepared, params, residuals=off_residuals)
+    above_training = scored_above_noise(ctx, prepared, params, "training", residuals=off_training)
     if not above or not above_training:
         return
     _, gap = beyond_control(out["above_noise"], above, weights)
@@ -366,14 +366,14 @@ def _scored(ctx: Context, prepared, addition: EffectAddition, pick, before: dict
     out["parameters"] = {c[len(PARAM) :]: float(pick[c]) for c in pick.index if c.startswith(PARAM)}
     out["shrink"] = {c: (1.0 - after[c] / before[c]) if before.get(c) and math.isfinite(after.get(c, math.nan)) else math.nan for c in after}
     out[RESIDUALS], out[RESIDUALS_TRAINING] = {}, {}
-    out["above_noise"] = _above_noise(ctx, prepared, out["parameters"], residuals=out[RESIDUALS])
-    out["above_noise_training"] = _above_noise(ctx, prepared, out["parameters"], "training", residuals=out[RESIDUALS_TRAINING])
+    out["above_noise"] = scored_above_noise(ctx, prepared, out["parameters"], residuals=out[RESIDUALS])
+    out["above_noise_training"] = scored_above_noise(ctx, prepared, out["parameters"], "training", residuals=out[RESIDUALS_TRAINING])
     out["gap_shrink"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise"].items()}, weights)
     out["gap_shrink_training"] = gap_shrink({t: v["shrink"] for t, v in out["above_noise_training"].items()}, weights)
     return out
 
 
-def _control_picked_for(ctx: Context, control: dict, weights: dict[str, float]) -> dict:
+def control_picked_for(ctx: Context, control: dict, weights: dict[str, float]) -> dict:
     """The control's result with its front member picked by ``weights`` (cached per member)."""
     from ..setup import prepare
 
@@ -508,7 +508,7 @@ def beyond_control(mine: dict, control: dict, weights: dict) -> tuple[dict, floa
         c = control.get(t)
         if not c:
             continue
-        sigma = min(v["noise"], c["noise"])  # each already the smaller of the diagnosed solution's and its own (_above_noise)
+        sigma = min(v["noise"], c["noise"])  # each already the smaller of the diagnosed solution's and its own (scored_above_noise)
         gap_b2 = v["rmse_before"] ** 2 - sigma**2
         gap_c2 = max(c["rmse_after"] ** 2 - sigma**2, 0.0)
         gap_a2 = max(v["rmse_after"] ** 2 - sigma**2, 0.0)
@@ -584,7 +584,7 @@ def noise_sigma(residual: np.ndarray, level: np.ndarray | None = None) -> float:
     return float(np.sqrt(moving.mean() * variance / (2 * 0.4549)))  # median of chi2(1) = 0.4549
 
 
-def _above_noise(ctx: Context, prepared, params: dict[str, float], kind: str = "validation", residuals: dict | None = None) -> dict[str, dict]:
+def scored_above_noise(ctx: Context, prepared, params: dict[str, float], kind: str = "validation", residuals: dict | None = None) -> dict[str, dict]:
     """Per target on validation (or training): RMSE before and after, the noise floor, and the
     shrink of the part of the error above that floor (the gap a model can close at all).
     ``residuals`` receives the residual series after, per target."""
