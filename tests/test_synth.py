@@ -283,3 +283,52 @@ def test_the_table_counts_the_single_effects_within_reach_apart():
     credited = next(r for r in rows if "could credit a perfect recalibration" in r)
     assert "(1 left out: b;" in decided and "| 3 | **2/3 (67%)** |" in decided
     assert "(2 left out: b; c;" in credited and "| 2 | **2/2 (100%)** |" in credited
+
+
+def test_rescore_scores_stored_cases_again_from_their_diagnoses(tmp_path, monkeypatch, capsys):
+    """`diagnosis_blind.py --SET --rescore --out DIR` reads each finished case's stored diagnosis
+    and scores it with today's scorer, diagnosing nothing: set 63's pair 6409 (a supply offset
+    claimed at -0.20 K for a true +0.3 K) loses its first claim; set 60's 6103, diagnosed again from
+    its re-tuned solution, keeps its top-1 (the claim's solar-input gain is in retuned/)."""
+    import importlib.util
+    import json
+    import sys
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "diagnosis_blind.py"
+    spec = importlib.util.spec_from_file_location("diagnosis_blind", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+
+    def stored(root, case, claimed, top, retuned=None):
+        folder = bench._case_folder(root, case)
+        diagnosis = folder / "runs" / "run" / "diagnosis"
+        diagnosis.mkdir(parents=True)
+        (diagnosis / "diagnosis.json").write_text(json.dumps({**top, "restart": {"share": 0.9} if retuned else None}))
+        if retuned:
+            (diagnosis / "retuned").mkdir()
+            (diagnosis / "retuned" / "diagnosis.json").write_text(json.dumps(retuned))
+        (folder / "case_result.json").write_text(json.dumps({
+            "case": case.label, "model": case.model, "effect": case.effect, "claimed": claimed, "ranking": claimed,
+            "top1": True, "top3": True, "top1_same_physics": True, "report": str(diagnosis / "report.md")}))
+
+    pair = next(c for c in bench.sixty_third_cases(["water_to_water_hp"]) if c.seed == 6409)
+    stored(tmp_path / "s63", pair, ["sensor_offset_gain"],
+           {"chain": [{"effect": "sensor_offset_gain", "effect_parameters": {"gain_PEl_W": 0.983, "offset_TSup_K": -0.195}}],
+            "recalibration": []})
+    solar = next(c for c in bench.sixtieth_cases([bench.ZONE]) if c.seed == 6103)
+    stored(tmp_path / "s60", solar, ["input_gain_error"],
+           {"chain": [], "recalibration": [{"effect": "input_gain_error", "effect_parameters": {"inputGain_u_hp": 1.02}}]},
+           retuned={"chain": [{"effect": "input_gain_error", "effect_parameters": {"inputGain_Q_sol": 0.736}}], "recalibration": []})
+    solar_folder = bench._case_folder(tmp_path / "s60", solar)
+
+    monkeypatch.setattr(sys, "argv", ["diagnosis_blind.py", "--sixty-third", "--rescore", "--out", str(tmp_path / "s63")])
+    bench.main()
+    out = capsys.readouterr().out
+    assert "seed6409" in out and "'sensor_offset_gain': False" in out and "top1 True -> False" in out, out
+    monkeypatch.setattr(sys, "argv", ["diagnosis_blind.py", "--sixtieth", "--rescore", "--out", str(tmp_path / "s60")])
+    bench.main()
+    out = capsys.readouterr().out
+    assert "seed6103" not in out, out  # credited as before: nothing to report
+    assert "| quickstart_zone | input_gain_error | 1 | 1/1 |" in out, out
+    assert json.loads((solar_folder / "case_result.json").read_text())["top1"] is True  # nothing written
