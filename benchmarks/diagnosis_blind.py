@@ -2808,9 +2808,7 @@ def main() -> None:
                 stored = {**stored, "chain": again.get("chain", []) + stored.get("chain", []),
                           "recalibration": stored.get("recalibration", []) + again.get("recalibration", [])}
             r.update(claim_scores(case, r["claimed"], r["ranking"], stored, record_outdoor_k(case, _case_folder(root, case))))
-            if len(case.withheld) > 1:
-                r["effect"] = "+".join(case.withheld)
-                r["top1"], r["top3"] = r.get("first_claim_withheld", False), r.get("all_claimed", False)
+            _scored_as_combination(case, r)
             changed = {k: (before[k], r.get(k)) for k in before if before[k] != r.get(k)}
             if changed or any(v is False for v in r["reading_right"].values()):
                 print(f"{case.label:70s} claimed={','.join(r['claimed']) or '-'} reading_right={r['reading_right']} "
@@ -2847,9 +2845,7 @@ def main() -> None:
             r = {"case": case.label, "model": case.model, "effect": case.effect, "error": f"{type(exc).__name__}: {exc}",
                  "top1": False, "top3": False, "shrink": None, "closed": None, "claimed": [], "ranking": []}
         results.append(r)
-        if len(case.withheld) > 1:
-            r["effect"] = "+".join(case.withheld)
-            r["top1"], r["top3"] = r.get("first_claim_withheld", False), r.get("all_claimed", False)
+        _scored_as_combination(case, r)
         print(
             f"{r['case']:60s} claimed={','.join(r['claimed']) or '-':28s} top1={r['top1']!s:5s} top3={r['top3']!s:5s} "
             f"shrink={_pct(r['shrink'])} beyond={_pct(r.get('beyond_control'))} closed={_pct(r['closed'])} ranking={','.join(r['ranking'][:3])} {r.get('error', '')}",
@@ -2861,6 +2857,14 @@ def main() -> None:
     print()
     print(table(results))
     print(f"\n{len(results)} cases in {time.perf_counter() - t0:.0f} s; cases in {root}; load average {os.getloadavg()}")
+
+
+def _scored_as_combination(case: BlindCase, r: dict) -> None:
+    """A case withholding several effects is scored as one (``r`` changed in place): its top-1,
+    the first claim is a withheld effect; its top-3 column, all of them claimed."""
+    if len(case.withheld) > 1:
+        r["effect"] = "+".join(case.withheld)
+        r["top1"], r["top3"] = r.get("first_claim_withheld", False), r.get("all_claimed", False)
 
 
 def _case_folder(root: Path, case: BlindCase) -> Path:

@@ -9,6 +9,7 @@ the calibration without being told what was withheld.
 from __future__ import annotations
 
 import io
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
@@ -452,11 +453,14 @@ def same_physics(effect: str | None) -> set[str]:
 def _on(column: str, suffix: str) -> bool:
     """Whether an effect parameter's suffix (a target or input name, ``_safe`` as the generic
     effects write it) names the measured ``column`` (``T_zone`` for ``T_zone_degC``)."""
-    import re
-
     safe = re.sub(r"\W", "_", column)
     # the column may carry one unit token more than the model's name: T_zone_degC, P_el_W
     return safe == suffix or re.fullmatch(re.escape(suffix) + r"_[A-Za-z0-9]+", safe) is not None
+
+
+def _found_on(found: Mapping[str, float], prefix: str, column: str) -> float | None:
+    """The value of the effect parameter ``prefix<name>`` whose name is the measured ``column``'s."""
+    return next((v for k, v in found.items() if k.startswith(prefix) and _on(column, k[len(prefix):])), None)
 
 
 def reading_right(case: BlindCase, effect: str, found: Mapping[str, float] | None,
@@ -491,20 +495,20 @@ def reading_right(case: BlindCase, effect: str, found: Mapping[str, float] | Non
     if effect == "sensor_offset_gain":
         for column, (offset, gain) in case.sensor.items():
             if offset:
-                value = next((v for k, v in found.items() if k.startswith("offset_") and _on(column, k[len("offset_"):])), None)
+                value = _found_on(found, "offset_", column)
                 checks.append(value is not None and value * offset > 0)
             if gain != 1.0:
-                value = next((v for k, v in found.items() if k.startswith("gain_") and _on(column, k[len("gain_"):])), None)
+                value = _found_on(found, "gain_", column)
                 checks.append(value is not None and (value - 1.0) * (gain - 1.0) > 0)
     elif effect == "input_gain_error":
         for column, factor in case.input_gain.items():
-            value = next((v for k, v in found.items() if k.startswith("inputGain_") and _on(column, k[len("inputGain_"):])), None)
+            value = _found_on(found, "inputGain_", column)
             checks.append(value is not None and (value - 1.0) * (factor - 1.0) < 0)
     elif effect == "clock_shift":
         checks.append(float(found.get("clockShift", 0.0)) * case.shift_s > 0)
     elif effect == "sensor_time_constant":
         for column in case.lag:
-            checks.append(any(k.startswith("tauSensor_") and _on(column, k[len("tauSensor_"):]) for k in found))
+            checks.append(_found_on(found, "tauSensor_", column) is not None)
     return all(checks) if checks else None
 
 
