@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import os
 import subprocess
 import sys
 
@@ -22,13 +23,26 @@ def _pip(*args):
 
 
 @pytest.fixture(scope="module")
-def installed_plugin():
-    proc = _pip("install", "--no-deps", str(PACKAGE))
+def installed_plugin(tmp_path_factory):
+    """The package pip-installed into a folder of its own on this process's path and on
+    PYTHONPATH (for subprocesses), not into the environment the suite shares: installed there,
+    every test running beside these saw its entry point while pip was half-way through the
+    install or the uninstall, its module not yet or no longer there, and stopped with "cannot
+    load plugin ... No module named 'simgap_peak_error'" (a clean clone's `.ci/run`, session 69)."""
+    site = tmp_path_factory.mktemp("plugin_site")
+    proc = _pip("install", "--no-deps", "--target", str(site), str(PACKAGE))
     assert proc.returncode == 0, proc.stderr
+    before = os.environ.get("PYTHONPATH")
+    os.environ["PYTHONPATH"] = os.pathsep.join([str(site), *([before] if before else [])])
+    sys.path.insert(0, str(site))
     importlib.invalidate_caches()
     clear_registry_cache()
     yield
-    _pip("uninstall", "-y", "simgap-peak-error")
+    sys.path.remove(str(site))
+    if before is None:
+        os.environ.pop("PYTHONPATH", None)
+    else:
+        os.environ["PYTHONPATH"] = before
     importlib.invalidate_caches()
     clear_registry_cache()
 
