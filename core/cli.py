@@ -330,6 +330,10 @@ def plugins():
             names = [n for n in registry.names(kind) if registry.source(kind, n) == source]
             if names:
                 click.echo(f"  {kind}s: {', '.join(names)}")
+    for broken in registry.broken:
+        source = broken.source
+        click.echo(f"{source.entry_point}  ({source.distribution} {source.version})  NOT LOADED")
+        click.echo(f"  {broken.error}")
 
 
 from simgap.models.synth_cli import register as _register_synth  # noqa: E402  (the example models' test bench)

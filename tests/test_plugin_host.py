@@ -70,5 +70,10 @@ def test_unknown_hook_argument_is_refused():
         pass
 
     module.register_metrics = register_metrics
+    source = PluginSource("bad", "bad-dist", "0")
     with pytest.raises(simgap.PluginError, match="does not match simgap's hooks"):
-        build_registry(extra_plugins=[(module, PluginSource("bad", "bad-dist", "0"))])
+        build_registry(extra_plugins=[(module, source)], strict=True)
+    # by default the plugin is skipped, named, and the others load (tests/test_broken_plugin.py)
+    registry = build_registry(extra_plugins=[(module, source)], strict=False)
+    assert [b.source for b in registry.broken] == [source] and "does not match simgap's hooks" in registry.broken[0].error
+    assert "rmse" in registry.names("metric")
