@@ -1,0 +1,208 @@
+"""The gap diagnosis on a model it did not write: the EnergyPlus bungalow, blind.
+
+The bungalow (``examples/energyplus/bungalow-1-heatpump.idf``, a third-party IDF run by real
+EnergyPlus) has no switches and no measured inputs: only the generic effects on its outputs can be
+added to it (a thermometer's offset, a meter's gain, a logger's clock, a sensor's time constant).
+Each case writes one reading error onto the model's noise-free week at the true parameters
+(``generate_bungalow_data.TRUTH``) with this script's own code (not ``simgap.around``'s), adds
+the generator's noise with the case's seed, calibrates with the shipped workflow as a user runs it
+(``workflows/energyplus_bungalow.yaml``, its budget) and diagnoses with the diagnosis's defaults,
+both through the ``simgap`` command. A case is right when the first claim is the withheld effect
+on its reading the right way round; a null case when nothing is claimed.
+
+    python benchmarks/diagnosis_energyplus.py --out DIR [--shard k/n] [--workers 1]
+    python benchmarks/diagnosis_energyplus.py --table DIR [DIR ...]
+
+The cases were fixed (and committed) before any of them ran.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "examples" / "energyplus"))
+
+
+@dataclass
+class Case:
+    label: str
+    effect: str | None
+    seed: int
+    offset: dict[str, float] = field(default_factory=dict)
+    """Per column, the thermometer's offset (K)."""
+    gain: dict[str, float] = field(default_factory=dict)
+    """Per column, the meter's gain."""
+    shift_s: float = 0.0
+    """The logger's clock late by this many seconds on every column."""
+    lag_s: dict[str, float] = field(default_factory=dict)
+    """Per column, the sensor's time constant (s)."""
+
+
+CASES = [
+    Case("null", None, 11),
+    Case("T_zone thermometer +0.3 K", "sensor_offset_gain", 12, offset={"T_zone": 0.3}),
+    Case("logger clock 20 min late", "clock_shift", 13, shift_s=1200.0),
+    Case("heat meter reads 10 % high", "sensor_offset_gain", 14, gain={"Q_radiator": 1.1}),
+    Case("null", None, 15),
+]
+
+
+def clean_week(cache: Path) -> pd.DataFrame:
+    """The model's noise-free outputs at the true parameters (one EnergyPlus run, cached)."""
+    if cache.exists():
+        return pd.read_parquet(cache)
+    import generate_bungalow_data as gen
+
+    frame = gen.simulate_truth()
+    cache.parent.mkdir(parents=True, exist_ok=True)
+    frame.to_parquet(cache)
+    return frame
+
+
+def as_logged(case: Case, clean: pd.DataFrame) -> pd.DataFrame:
+    """The case's reading errors on the clean week, then the generator's noise."""
+    import generate_bungalow_data as gen
+
+    seconds = (clean.index - clean.index[0]).total_seconds().to_numpy()
+    out = clean.copy()
+    for column in out.columns:
+        values = out[column].to_numpy(dtype=float)
+        if column in case.lag_s:  # exact discretisation of a first-order sensor, step by step
+            a = np.exp(-np.diff(seconds) / case.lag_s[column])
+            lagged = values.copy()
+            for i in range(1, len(values)):
+                lagged[i] = a[i - 1] * lagged[i - 1] + (1 - a[i - 1]) * values[i]
+            values = lagged
+        if case.shift_s:  # the value logged at t is what the plant had at t - shift
+            values = np.interp(seconds - case.shift_s, seconds, values)
+        values = case.gain.get(column, 1.0) * values + case.offset.get(column, 0.0)
+        out[column] = values
+    rng = np.random.default_rng(case.seed)
+    for column, sd in gen.NOISE.items():
+        out[column] = out[column] + rng.normal(0.0, sd, len(out))
+    for column in ("P_el_heat_pump", "Q_radiator"):
+        out[column] = out[column].clip(lower=0.0)
+    return out
+
+
+def write_case(case: Case, clean: pd.DataFrame, folder: Path) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    as_logged(case, clean).round(4).reset_index().to_csv(folder / "measured.csv", index=False, date_format="%Y-%m-%d %H:%M:%S")
+    shipped = REPO / "workflows" / "energyplus_bungalow.yaml"
+    doc = yaml.safe_load(shipped.read_text())
+    doc["name"] = f"bungalow_seed{case.seed}"
+    doc["data"]["file"] = "measured.csv"
+    doc["simulator"]["options"]["model"] = str(REPO / "examples" / "energyplus" / "bungalow-1-heatpump.idf")
+    doc["output"] = "."
+    path = folder / "workflow.yaml"
+    path.write_text(f"# blind case: {case.label} (seed {case.seed})\n" + yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
+def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
+    if effect != case.effect:
+        return False
+    checks = []
+    for column, offset in case.offset.items():
+        checks.append(found.get(f"offset_{column}", 0.0) * offset > 0)
+    for column, gain in case.gain.items():
+        checks.append((found.get(f"gain_{column}", 1.0) - 1.0) * (gain - 1.0) > 0)
+    if case.shift_s:
+        checks.append(found.get("clockShift", 0.0) * case.shift_s > 0)
+    for column in case.lag_s:
+        checks.append(f"tauSensor_{column}" in found)
+    return all(checks) if checks else False
+
+
+def run_case(case: Case, clean: pd.DataFrame, folder: Path, workers: int) -> dict:
+    workflow = write_case(case, clean, folder)
+    t0 = time.perf_counter()
+    run = subprocess.run([sys.executable, "-m", "simgap.cli", "run", str(workflow), "--workers", str(workers), "--figures", "none"],
+                         cwd=folder, capture_output=True, text=True)
+    t1 = time.perf_counter()
+    (folder / "run.log").write_text(run.stdout + run.stderr)
+    if run.returncode != 0:
+        return {"case": case.label, "seed": case.seed, "error": f"simgap run exited {run.returncode}"}
+    run_dir = max((p for p in folder.iterdir() if p.is_dir() and (p / "summary.json").exists()), key=lambda p: p.stat().st_mtime)
+    diag = subprocess.run([sys.executable, "-m", "simgap.cli", "diagnose", str(run_dir), "--workers", str(workers)],
+                          cwd=folder, capture_output=True, text=True)
+    t2 = time.perf_counter()
+    (folder / "diagnose.log").write_text(diag.stdout + diag.stderr)
+    if diag.returncode != 0:
+        return {"case": case.label, "seed": case.seed, "error": f"simgap diagnose exited {diag.returncode}"}
+    result = json.loads((run_dir / "diagnosis" / "diagnosis.json").read_text())
+    claimed = list(result.get("claimed") or [])
+    chain = result.get("chain") or []
+    found = dict(chain[0].get("effect_parameters") or {}) if chain else {}
+    first = claimed[0] if claimed else None
+    right = (not claimed) if case.effect is None else bool(first and reading_right(case, first, found))
+    recal = {r["effect"]: r for r in result.get("recalibration", []) if r.get("effect")}
+    mine = recal.get(case.effect or "", {})
+    return {
+        "case": case.label, "seed": case.seed, "withheld": case.effect, "claimed": claimed, "found": found,
+        "ranking": [c if isinstance(c, str) else c.get("effect") for c in result.get("ranking", [])][:3],
+        "right": right, "verdict": result.get("verdict"),
+        "withheld_beyond_retuning": mine.get("gap_shrink_vs_control"), "withheld_p": mine.get("p_vs_control"),
+        "withheld_found": mine.get("effect_parameters"),
+        "calibration_s": round(t1 - t0, 1), "diagnosis_s": round(t2 - t1, 1), "load": os.getloadavg(),
+    }
+
+
+def table(paths: list[Path]) -> None:
+    rows = []
+    for p in paths:
+        rows += json.loads(Path(p).read_text())
+    rows.sort(key=lambda r: r["seed"])
+    print("| case | seed | claimed (found) | withheld: beyond re-tuning (p) | right? |")
+    print("|---|---|---|---|---|")
+    for r in rows:
+        if "error" in r:
+            print(f"| {r['case']} | {r['seed']} | {r['error']} | | no |")
+            continue
+        found = ", ".join(f"{k} {v:.3g}" for k, v in r["found"].items())
+        beyond = r.get("withheld_beyond_retuning")
+        withheld = f"{beyond:.0%} ({r['withheld_p']:.2g})" if beyond is not None and r.get("withheld_p") is not None else "not recalibrated" if r["withheld"] else "–"
+        print(f"| {r['case']} | {r['seed']} | {', '.join(r['claimed']) or 'nothing'}{' (' + found + ')' if found else ''} | {withheld} | {'yes' if r['right'] else 'no'} |")
+    effects = [r for r in rows if r.get("withheld")]
+    nulls = [r for r in rows if not r.get("withheld")]
+    print(f"\nsingle effects right: {sum(r.get('right', False) for r in effects)}/{len(effects)}; "
+          f"null cases with a claim: {sum(not r.get('right', False) for r in nulls)}/{len(nulls)}")
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path)
+    parser.add_argument("--shard", default="1/1")
+    parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--table", nargs="+", type=Path)
+    args = parser.parse_args(argv)
+    if args.table:
+        table(args.table)
+        return
+    k, n = map(int, args.shard.split("/"))
+    clean = clean_week(args.out.parent / "bungalow_clean.parquet")
+    results = []
+    for i, case in enumerate(CASES):
+        if i % n != k - 1:
+            continue
+        print(f"{case.label} (seed {case.seed}) ...", flush=True)
+        results.append(run_case(case, clean, args.out / f"seed{case.seed}", args.workers))
+        print(json.dumps(results[-1], default=str), flush=True)
+        (args.out / "results.json").write_text(json.dumps(results, indent=1, default=str))
+    table([args.out / "results.json"])
+
+
+if __name__ == "__main__":
+    main()
