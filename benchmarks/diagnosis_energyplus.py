@@ -142,9 +142,17 @@ def run_case(case: Case, clean: pd.DataFrame, folder: Path, workers: int) -> dic
     (folder / "diagnose.log").write_text(diag.stdout + diag.stderr)
     if diag.returncode != 0:
         return {"case": case.label, "seed": case.seed, "error": f"simgap diagnose exited {diag.returncode}"}
+    return {**score(case, run_dir), "calibration_s": round(t1 - t0, 1), "diagnosis_s": round(t2 - t1, 1), "load": os.getloadavg()}
+
+
+def score(case: Case, run_dir: Path) -> dict:
+    """The case's score from its stored diagnosis."""
     result = json.loads((run_dir / "diagnosis" / "diagnosis.json").read_text())
     claimed = list(result.get("claimed") or [])
     chain = result.get("chain") or []
+    again = run_dir / "diagnosis" / "retuned" / "diagnosis.json"
+    if not chain and again.exists():  # diagnosed again from the re-tuned solution: its claims are there
+        chain = json.loads(again.read_text()).get("chain") or []
     found = dict(chain[0].get("effect_parameters") or {}) if chain else {}
     first = claimed[0] if claimed else None
     right = (not claimed) if case.effect is None else bool(first and reading_right(case, first, found))
@@ -152,11 +160,10 @@ def run_case(case: Case, clean: pd.DataFrame, folder: Path, workers: int) -> dic
     mine = recal.get(case.effect or "", {})
     return {
         "case": case.label, "seed": case.seed, "withheld": case.effect, "claimed": claimed, "found": found,
-        "ranking": [c if isinstance(c, str) else c.get("effect") for c in result.get("ranking", [])][:3],
+        "ranking": [c.get("name") for c in result.get("ranking", [])][:3],
         "right": right, "verdict": result.get("verdict"),
         "withheld_beyond_retuning": mine.get("gap_shrink_vs_control"), "withheld_p": mine.get("p_vs_control"),
         "withheld_found": mine.get("effect_parameters"),
-        "calibration_s": round(t1 - t0, 1), "diagnosis_s": round(t2 - t1, 1), "load": os.getloadavg(),
     }
 
 
@@ -187,7 +194,19 @@ def main(argv=None) -> None:
     parser.add_argument("--shard", default="1/1")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--table", nargs="+", type=Path)
+    parser.add_argument("--rescore", action="store_true", help="score the stored diagnoses in --out again (timings kept)")
     args = parser.parse_args(argv)
+    if args.rescore:
+        stored = json.loads((args.out / "results.json").read_text())
+        by_seed = {c.seed: c for c in CASES}
+        for row in stored:
+            folder = args.out / f"seed{row['seed']}"
+            runs = [p for p in folder.iterdir() if p.is_dir() and (p / "diagnosis" / "diagnosis.json").exists()]
+            if runs:
+                row.update(score(by_seed[row["seed"]], runs[0]))
+        (args.out / "results.json").write_text(json.dumps(stored, indent=1, default=str))
+        table([args.out / "results.json"])
+        return
     if args.table:
         table(args.table)
         return
