@@ -267,6 +267,26 @@ def test_the_verdict_says_when_re_tuning_alone_closes_the_gap():
     assert "re-tuning alone does nearly as well as lag (with it the gap shrinks 30%, beyond re-tuning 5%)" in text
 
 
+def test_a_claimed_reading_error_says_where_a_tuner_makes_its_change():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+
+    # the blind EnergyPlus null case of session 70: the power meter's gain is the COP's twin
+    gain = Candidate("sensor_offset_gain", "", "", True, significant=True, confirm=True, min_shrink=0.2)
+    gain.gap_shrink, gain.shrink_vs_control, gain.p_vs_control, gain.training_shrink_vs_control = 0.96, 0.67, 6e-8, 0.58
+    gain.reading_error = True
+    gain.per_target = {"P_el": {"share": 0.65, "reproduced_by_tuners": 1.0, "most_like": "heat_pump_COP"},
+                       "Q_radiator": {"share": 0.3, "reproduced_by_tuners": 0.76, "most_like": "wall_conductivity"},
+                       "T_zone": {"share": 0.1, "reproduced_by_tuners": 0.989, "most_like": "heating_setpoint"}}
+    assert gain.claimed
+    text = verdict([gain])
+    assert text.startswith("most likely unmodelled effect: sensor_offset_gain (gap shrink 67% beyond re-tuning)")
+    assert ("its part on P_el (re-tuning heat_pump_COP makes 100% of that change) is not determined by these data" in text), text
+    assert "Q_radiator (" not in text and "T_zone (" not in text  # a tenth (a hundredth) of the change left pins the value
+    gain.reading_error = False  # a physical effect's parameters are not readings
+    assert "not determined" not in verdict([gain])
+
+
 def test_a_control_that_gains_on_validation_only_is_no_sign_of_an_unconverged_calibration():
     from simgap.diagnosis.report import control_gap_shrink
 

@@ -211,6 +211,9 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
             parts.append("but its recalibration left " + ", ".join(f"{n} = {v:.4g}" for n, v in claimed[0].at_bounds.items())
                          + " at the bounds of their ranges: the effect needs more than its range allows, or stands in for "
                          "another one; treat the claim with caution")
+        undetermined = undetermined_readings(claimed[0])
+        if undetermined:
+            parts.append(undetermined)
         twins = [c.name for c in candidates if c.twin_of == claimed[0].name]
         if twins:
             parts.append(f"the same physics as {', '.join(twins)}, recalibrated as the model's own only")
@@ -323,6 +326,29 @@ def caveats(candidates) -> list[str]:
 def noise_gaps(gaps: dict[str, float]) -> str:
     """"T: g noise variances above the floor, …" for :func:`simgap.diagnosis.shrink.within_noise`'s gaps."""
     return ", ".join(f"{t}: {g:.2g} noise variances above the floor" for t, g in gaps.items())
+
+
+UNDETERMINED = 0.99
+"""A reading's part of a claimed reading error is not determined where re-tuning alone makes at
+least this share of its change there (nearly all: the imitation threshold ``LIKE_RETUNING`` of
+0.9 leaves a tenth of the change for the data to pin the value with)."""
+
+
+def undetermined_readings(c) -> str:
+    """For a claimed reading error, the clause naming the readings where re-tuning alone makes
+    (nearly) all of its change, so the value found there is not determined by the data, or "".
+
+    A blind EnergyPlus null case (session 70) was claimed with the power meter at x1.19 and the
+    COP at 4.19 for a truth of 3.2: on the power the meter's gain and the COP are one change, and
+    the verdict gave the gain as found."""
+    if not c.reading_error:
+        return ""
+    loose = [(t, v["reproduced_by_tuners"], v.get("most_like")) for t, v in sorted(c.per_target.items())
+             if v.get("reproduced_by_tuners") is not None and v["reproduced_by_tuners"] >= UNDETERMINED and v.get("most_like")]
+    if not loose:
+        return ""
+    return ("its part on " + ", ".join(f"{t} (re-tuning {tuner} makes {share:.0%} of that change)" for t, share, tuner in loose)
+            + " is not determined by these data: the value found there is one of many that fit as well")
 
 
 def twin(c) -> str:
