@@ -59,6 +59,24 @@ def test_ashrae14_verdict_pass_and_fail():
     assert "fails ASHRAE Guideline 14" in bad and "NMBE -20.4 %" in bad  # -20 % x n/(n-1), ASHRAE's denominator and "48 hours" in bad
 
 
+def test_a_series_that_alternates_from_sample_to_sample_is_named():
+    """The EnergyPlus bungalow's radiator heat at its 5-min step (session 70): an oscillation from
+    one sample to the next whose phase, not the parameters, decides most of a 5-min error."""
+    rng = np.random.default_rng(3)
+    n = 1152
+    level = 1500 + 400 * np.sin(np.arange(n) / 150)
+    zigzag = 230 * (-1.0) ** np.arange(n)
+    measured = level + zigzag + rng.normal(0, 30, n)
+    for simulated in (level + zigzag, level - zigzag):  # in phase or out of it, the note is the same
+        found = notes.alternation_notes("Q_radiator", "training", measured, simulated)
+        assert len(found) == 1 and found[0].startswith("alternating: Q_radiator as simulated on training data")
+        assert "r = -1.00" in found[0] and "resolution: 1h" in found[0]
+    assert notes.alternation_notes("Q_radiator", "training", measured, level) == []  # a smooth simulation
+    small = level + 0.05 * zigzag  # steps of 23 W against an error of about 230 W: the phase hardly matters
+    assert notes.alternation_notes("Q_radiator", "training", measured, small) == []
+    assert notes.alternation_notes("Q_radiator", "training", measured, level + rng.normal(0, 5, n)) == []  # white noise's steps: r = -0.5
+
+
 def test_run_summary_keeps_the_warnings(quickstart_text, write_workflow):
     """A quickstart with a bound squeezed below the truth (eta_carnot 0.45 -> max 0.35) and a
     relative metric on the zone temperature: both warnings reach summary.json."""
@@ -71,3 +89,4 @@ def test_run_summary_keeps_the_warnings(quickstart_text, write_workflow):
     assert any(n.startswith("bound: tuner eta_carnot") and "upper bound" in n for n in found), found
     assert any(n.startswith("units: T_zone.cvrmse") and "K" in n for n in found), found
     assert any(n.startswith("ashrae14: P_el on training data") for n in found), found
+    assert not any(n.startswith("alternating:") for n in found), found  # the quickstart zone's series are smooth
