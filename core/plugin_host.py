@@ -84,7 +84,7 @@ class Registry:
 
     def add(self, kind: str, obj: Any, source: PluginSource) -> None:
         name = getattr(obj, "name", None)
-        if not isinstance(name, str) or not name:
+        if not _named(obj):
             raise PluginError(f"{source} registered a {kind} without a 'name' attribute: {obj!r}")
         existing = self.sources.get((kind, name))
         if existing is not None:
@@ -94,6 +94,12 @@ class Registry:
             )
         self.items[kind][name] = obj
         self.sources[(kind, name)] = source
+
+
+def _named(obj: Any) -> bool:
+    """Whether a registered object carries the non-empty string ``name`` the registry files it under."""
+    name = getattr(obj, "name", None)
+    return isinstance(name, str) and bool(name)
 
 
 def _selected_entry_points():
@@ -148,9 +154,8 @@ def build_registry(extra_plugins: list[tuple[Any, PluginSource]] | None = None, 
         loaded.append((plugin, source))
     loaded.extend(extra_plugins or [])
     for plugin, source in loaded:
-        name = f"{source.distribution}:{source.entry_point}"
         try:
-            pm.register(plugin, name=name)
+            pm.register(plugin, name=f"{source.distribution}:{source.entry_point}")
         except ValueError as exc:
             raise PluginError(f"plugin {source} is registered twice: {exc}") from exc
         except pluggy.PluginValidationError as exc:
@@ -168,8 +173,7 @@ def build_registry(extra_plugins: list[tuple[Any, PluginSource]] | None = None, 
             pm.unregister(plugin)
             skip(source, f"{hook_name} raised {type(exc).__name__}: {exc}", exc)
             continue
-        nameless = [f"a {kind} without a 'name' attribute: {obj!r}" for kind, obj in staged
-                    if not isinstance(getattr(obj, "name", None), str) or not obj.name]
+        nameless = [f"a {kind} without a 'name' attribute: {obj!r}" for kind, obj in staged if not _named(obj)]
         if nameless:
             pm.unregister(plugin)
             skip(source, f"registered {nameless[0]}", PluginError(nameless[0]))
