@@ -159,6 +159,33 @@ def test_run_period_that_misses_the_case_is_a_model_error():
         narrow.simulate(MODEL_VALUES, make_case("2023-01-10 00:05", days=2, outputs=("P_el",)))
 
 
+def _segment(record_start: str, first: str, days: float, outputs=("Q_radiator", "P_el")):
+    """A segment starting at ``first``, its times counted from the record's first sample."""
+    reference = pd.Timestamp(record_start)
+    offset = (pd.Timestamp(first) - reference).total_seconds()
+    times = offset + np.arange(0.0, days * 86400.0 - 150.0, 300.0)
+    return simgap.SimulationCase(
+        key="segment", reference_time=reference, start=float(times[0]), stop=float(times[-1]),
+        input_time=np.array([]), inputs={}, output_time=times, outputs=outputs,
+    )
+
+
+def test_segments_are_slices_of_one_run_of_the_record(simulator):
+    # EnergyPlus starts from its own warm-up, not from a measured state: a run started on the
+    # segment's own day runs out of step with a record written by one run from its start (the
+    # bungalow's plant loop alternates from step to step), a run from the record's start does not.
+    week = simulator.simulate(MODEL_VALUES, make_case("2023-01-09 00:05", days=6, outputs=("Q_radiator", "P_el")))
+    for first, days in (("2023-01-10 00:05", 2), ("2023-01-14 00:05", 1)):
+        case = _segment("2023-01-09 00:05", first, days)
+        rows = slice(int(case.output_time[0] // 300), int(case.output_time[0] // 300) + case.output_time.size)
+        from_record = simulator.simulate(MODEL_VALUES, case)
+        own_start = make_simulator(run_from="case").simulate(MODEL_VALUES, case)
+        for name in case.outputs:
+            np.testing.assert_allclose(from_record[name], week[name][rows], atol=1e-9)
+        heat_miss = np.sqrt(np.mean((own_start["Q_radiator"] - week["Q_radiator"][rows]) ** 2))
+        assert heat_miss > 10.0, f"{first}: a run from the segment's day is {heat_miss:.1f} W RMS from the record's run"
+
+
 def test_runs_leave_no_temporary_folders(simulator, tmp_path, monkeypatch):
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     simulator.simulate(MODEL_VALUES, make_case(days=0.5, outputs=("P_el",)))
