@@ -56,6 +56,9 @@ CASES = [
     Case("logger clock 20 min late", "clock_shift", 13, shift_s=1200.0),
     Case("heat meter reads 10 % high", "sensor_offset_gain", 14, gain={"Q_radiator": 1.1}),
     Case("null", None, 15),
+    # Session 71 (committed before they ran, after run_from: record became the default):
+    Case("heat meter time constant 10 min", "sensor_time_constant", 16, lag_s={"Q_radiator": 600.0}),
+    Case("logger clock 15 min early", "clock_shift", 17, shift_s=-900.0),
 ]
 
 
