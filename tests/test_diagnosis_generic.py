@@ -468,3 +468,31 @@ def test_polishing_carries_a_solution_to_its_local_optimum_within_its_simulation
     assert set(polished) == set(ctx.parameters)
     _, few = polish(ctx, ctx.prepared, ctx.parameters, {"T_zone": 1.0, "P_el": 1.0}, noise, simulations=3)
     assert few == 3
+
+
+def test_a_control_an_effects_own_tuners_beat_is_searched_again_from_there(tmp_path):
+    """Re-tuning alone starts at the calibration's solution and may stay in its basin while an
+    effect's search leaves it (a blind EnergyPlus case on the radiator's plateau: every effect
+    'beat' the control, a thermometer offset was claimed the wrong way round). Where an effect's
+    recalibrated tuners, the effect left out, remove most of the training gap the control left,
+    re-tuning alone runs once more from there, and the diagnosis restarts from it."""
+    from simgap.diagnosis.context import build_context
+    from simgap.diagnosis.run import control_beaten
+
+    frame = _truth(tmp_path, pd.read_csv(DATA), TRUE)
+    short = {"plugin": "nsga2", "options": {"population": 8}, "seed": 3, "budget": {"evaluations": 8}}
+    run_dir = calibrate(prepare(_workflow(tmp_path, frame, optimiser=short)), workers=2)
+    ctx = build_context(run_dir, overrides={"recalibrate": {"population": 8, "generations": 3, "workers": 2}})
+    stuck = {"run": str(run_dir), "solution": ctx.solution_id, "gap_shrink_training": 0.1, "evaluations": 24}
+    quiet = lambda *_: None  # noqa: E731
+    # the effect's search left the tuners where they were: no way out shown
+    stayed = [{"effect": "clock_shift", "parameters": {**ctx.parameters, "clockShift": 0.0}}]
+    assert control_beaten(ctx, stuck, stayed, tmp_path / "stayed", quiet) is None
+    # it found the truth's tuners (with its own parameter at nothing)
+    left = [{"effect": "clock_shift", "parameters": {**TRUE, "clockShift": 0.0}}]
+    again = control_beaten(ctx, stuck, left, tmp_path / "left", quiet)
+    assert again is not None and again["gap_shrink_training"] >= 0.5, again
+    assert "started where clock_shift's recalibration left the tuners" in again["why"]
+    assert again["run"] != stuck["run"] and "solution" in again
+    # a control that had already found the way out (removed the whole gap) is not searched again
+    assert control_beaten(ctx, {**stuck, "gap_shrink_training": 1.0}, left, tmp_path / "not", quiet) is None
