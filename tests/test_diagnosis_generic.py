@@ -494,5 +494,13 @@ def test_a_control_an_effects_own_tuners_beat_is_searched_again_from_there(tmp_p
     assert again is not None and again["gap_shrink_training"] >= 0.5, again
     assert "started where clock_shift's recalibration left the tuners" in again["why"]
     assert again["run"] != stuck["run"] and "solution" in again
+    # what the first pass confirmed against the beaten control is not claimed
+    from simgap.diagnosis.ranking import Candidate
+
+    offset = Candidate("sensor_offset_gain", "", "", True, significant=True, confirm=True, min_shrink=0.2, share=0.3, p_value=1e-6)
+    offset.gap_shrink, offset.shrink_vs_control, offset.p_vs_control, offset.training_shrink_vs_control = 0.75, 0.75, 1e-9, 0.75
+    assert offset.claimed
+    offset.control_beaten = True
+    assert not offset.claimed and not offset.not_confirmed and offset.as_dict()["control_beaten"]
     # a control that had already found the way out (removed the whole gap) is not searched again
     assert control_beaten(ctx, {**stuck, "gap_shrink_training": 1.0}, left, tmp_path / "not", quiet) is None

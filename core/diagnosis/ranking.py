@@ -144,6 +144,10 @@ class Candidate:
     """Confirmed beside the round's best effect, but the next round, diagnosing the model
     recalibrated with the best, did not claim it (:func:`simgap.diagnosis.run.unconfirmed_next`):
     not claimed."""
+    control_beaten: bool = False
+    """Judged against a control that re-tuning alone, started where an effect's recalibration
+    left the tuners, beat (:func:`simgap.diagnosis.run.control_beaten`): not claimed; the
+    diagnosis restarts from that better control."""
     modest: bool = False
     """Claimed at the modest threshold (:func:`simgap.diagnosis.run.modest_claim`): nothing else
     was, and its shrink beyond re-tuning alone, under the confirmation threshold but at least
@@ -231,7 +235,7 @@ class Candidate:
     def claimed(self) -> bool:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap, of
         a gap re-tuning alone does not bring to within the noise."""
-        return self.confirmed and not self.noise_held and not self.unconfirmed_next
+        return self.confirmed and not self.noise_held and not self.unconfirmed_next and not self.control_beaten
 
     @property
     def noise_held(self) -> bool:
@@ -350,7 +354,7 @@ class Candidate:
         the screening pointed (a switching effect's fit can be too narrow for the search)."""
         return (self.pointed_at and self.gap_shrink is not None and not self.claimed and not self.undecided
                 and not self.like_retuning and not self.reopened and not self.fitted_no_better and not self.within_noise_only
-                and not self.unconfirmed_next)
+                and not self.unconfirmed_next and not self.control_beaten)
 
     def as_dict(self) -> dict:
         return {
@@ -385,6 +389,7 @@ class Candidate:
             "together_shrink": self.together_shrink,
             "together_p": self.together_p,
             "unconfirmed_next": self.unconfirmed_next,
+            "control_beaten": self.control_beaten,
             "modest": self.modest,
             "first": self.first,
             "claimed": self.claimed,

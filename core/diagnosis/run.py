@@ -867,6 +867,8 @@ def diagnose(
     if beaten is not None:
         # every claim of this pass would be judged against a control that re-tuning alone beats
         chosen = []
+        for cand in candidates:
+            cand.control_beaten = True
     # within the noise only a first-pass effect that goes twice as far beyond re-tuning is
     # claimed (ranking.WITHIN_NOISE_SHRINK): the second pass's extra chances are not taken there
     if (chosen and ctx.config.recalibrate.second_pass and not fitted
