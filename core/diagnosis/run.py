@@ -1067,8 +1067,11 @@ def control_beaten(ctx, control: dict | None, shrink: list[dict], folder: Path, 
     if best is None or best_share < ctx.config.restart_above or (1.0 - best_share) >= BEATEN_LEAVES * left:
         return None
     effect, tuners = best
+    # the control's own shrink is not finite where its gap above the noise floor is none (a
+    # noise floor that a step-to-step oscillation of the residual inflates)
+    by_control = f"{1.0 - left:.0%}" if math.isfinite(left) else "not measurable"
     say(f"{effect}'s recalibrated tuners without it remove {best_share:.0%} of the training gap, re-tuning alone "
-        f"{1.0 - left:.0%}: re-tuning alone once more, from there")
+        f"{by_control}: re-tuning alone once more, from there")
     again = recalibrate(ctx, CONTROL, EffectAddition(switch={}, parameters=()), folder / "recalibration" / "control_from_effect",
                         {}, start=tuners, evaluations=control.get("evaluations"))
     share = again.get("gap_shrink_training")
@@ -1076,7 +1079,7 @@ def control_beaten(ctx, control: dict | None, shrink: list[dict], folder: Path, 
         return None
     again["why"] = (f"re-tuning alone, started where {effect}'s recalibration left the tuners, removed {share:.0%} of the "
                     f"training gap (validation {again.get('gap_shrink', math.nan):.0%}; from the calibration's own solution "
-                    f"{1.0 - left:.0%}): the calibration had not converged")
+                    f"{by_control}): the calibration had not converged")
     return again
 
 
