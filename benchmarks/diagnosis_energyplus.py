@@ -161,6 +161,8 @@ def score(case: Case, run_dir: Path) -> dict:
     first = claimed[0] if claimed else None
     right = (not claimed) if case.effect is None else bool(first and reading_right(case, first, found))
     recal = {r["effect"]: r for r in result.get("recalibration", []) if r.get("effect")}
+    if again.exists():  # diagnosed again from the re-tuned solution: its recalibrations count
+        recal = {r["effect"]: r for r in json.loads(again.read_text()).get("recalibration", []) if r.get("effect")}
     mine = recal.get(case.effect or "", {})
     return {
         "case": case.label, "seed": case.seed, "withheld": case.effect, "claimed": claimed, "found": found,
