@@ -188,10 +188,13 @@ def table(paths: list[Path]) -> None:
         beyond = r.get("withheld_beyond_retuning")
         withheld = f"{beyond:.0%} ({r['withheld_p']:.2g})" if beyond is not None and r.get("withheld_p") is not None else "not recalibrated" if r["withheld"] else "–"
         print(f"| {r['case']} | {r['seed']} | {', '.join(r['claimed']) or 'nothing'}{' (' + found + ')' if found else ''} | {withheld} | {'yes' if r['right'] else 'no'} |")
-    effects = [r for r in rows if r.get("withheld")]
-    nulls = [r for r in rows if not r.get("withheld")]
+    withheld = {c.seed: c.effect for c in CASES}  # an error row holds no score: counted by its case, not as a null
+    effects = [r for r in rows if withheld.get(r["seed"]) and "error" not in r]
+    nulls = [r for r in rows if not withheld.get(r["seed"]) and "error" not in r]
+    failed = sum("error" in r for r in rows)
     print(f"\nsingle effects right: {sum(r.get('right', False) for r in effects)}/{len(effects)}; "
-          f"null cases with a claim: {sum(not r.get('right', False) for r in nulls)}/{len(nulls)}")
+          f"null cases with a claim: {sum(not r.get('right', False) for r in nulls)}/{len(nulls)}"
+          + (f"; {failed} case(s) without a score" if failed else ""))
 
 
 def main(argv=None) -> None:
