@@ -15,8 +15,8 @@ from .ranking import AS_SIMULATED_SLOT, MODEST, REOPENS_AT_MOST, WITHIN_NOISE_SH
 from .report import caveats, control_gap_shrink, noise_gaps, verdict, write
 from ..interfaces import EffectAddition
 from .polish import polished_comparison
-from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, control_picked_for, improvement_p_value,
-                     recalibrate, recalibration_evaluations, weak_end, within_noise)
+from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, control_picked_for, gap_shrink,
+                     improvement_p_value, recalibrate, recalibration_evaluations, scored_above_noise, weak_end, within_noise)
 from .warmstart import better_start, local_fit
 from .where import analyse, gap_warning
 
@@ -1050,8 +1050,6 @@ def control_beaten(ctx, control: dict | None, shrink: list[dict], folder: Path, 
     61 % where the control removed 56 %)."""
     if control is None or ctx.config.restart_above >= 1 or not control.get("run"):
         return None
-    from .shrink import gap_shrink, scored_above_noise
-
     names = set(ctx.prepared.space.names)
     best, best_share = None, -math.inf
     for result in shrink:
