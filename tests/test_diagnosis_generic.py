@@ -504,3 +504,35 @@ def test_a_control_an_effects_own_tuners_beat_is_searched_again_from_there(tmp_p
     assert not offset.claimed and not offset.not_confirmed and offset.as_dict()["control_beaten"]
     # a control that had already found the way out (removed the whole gap) is not searched again
     assert control_beaten(ctx, {**stuck, "gap_shrink_training": 1.0}, left, tmp_path / "not", quiet) is None
+
+
+def test_a_target_scored_on_hourly_means_is_judged_on_them(tmp_path):
+    """A reading that alternates from one sample to the next around the truth (an EnergyPlus
+    plant loop out of phase with the record) is noise to successive differences: judged sample by
+    sample the floor takes it in and leaves no gap for an effect to close. Where every objective
+    metric of the target scores hourly means, the diagnosis measures the gap, its noise floor and
+    the paired test's residuals on the same means, where the alternation averages out."""
+    from simgap.diagnosis.context import build_context
+    from simgap.diagnosis.shrink import scored_above_noise
+
+    frame = _truth(tmp_path, pd.read_csv(DATA), TRUE)
+    alternation = 0.15 * (-1.0) ** np.arange(len(frame))  # 10-min samples: six to an hour, cancelling
+    alternation[0] = 0.0  # the zone's initial state is read from the first sample
+    frame["T_zone_degC"] += alternation
+    short = {"plugin": "nsga2", "options": {"population": 8}, "seed": 3, "budget": {"evaluations": 8}}
+    hourly = [{"name": "rmse", "resolution": "1h"}, {"name": "rmse", "objective": False}]
+    floors, lengths = {}, {}
+    for name, metrics in (("samples", ["rmse"]), ("hourly", hourly)):
+        targets = [{"name": "T_zone", "measured": "T_zone", "simulated": "T_zone", "metrics": metrics},
+                   {"name": "P_el", "measured": "P_el", "simulated": "P_el", "metrics": ["cvrmse"]}]
+        run_dir = calibrate(prepare(_workflow(tmp_path / name, frame, optimiser=short, targets=targets)), workers=1)
+        ctx = build_context(run_dir)
+        residuals = {}
+        above = scored_above_noise(ctx, ctx.prepared, TRUE, "training", residuals=residuals)
+        floors[name], lengths[name] = above["T_zone"]["noise"], len(residuals["T_zone"])
+        if name == "hourly":
+            assert ctx.judged_at == {"T_zone": ("1h", 3_600_000_000_000)}  # P_el's metric has no resolution
+            assert above["T_zone"]["rmse_after"] < 0.05, above  # the truth at hourly means: the meter's noise only
+            assert len(residuals["P_el"]) == lengths["samples"]
+    assert floors["samples"] > 0.15 > 0.03 > floors["hourly"], floors  # the 0.05-K thermometer's hourly mean: 0.02 K
+    assert lengths["hourly"] == -(-lengths["samples"] // 6), lengths  # 48 h and the sample at the 48th hour

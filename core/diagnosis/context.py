@@ -181,6 +181,27 @@ class Context:
         )
 
     @property
+    def judged_at(self) -> dict[str, tuple[str, int]]:
+        """Per target scored on period means, (the period as written, its length in ns): the
+        resolution every one of its objective metrics shares (``metrics: [{name: rmse,
+        resolution: 1h}]``). The engineer said the target's error counts at that scale (a plant
+        loop that alternates from one 5-min step to the next, out of phase again a fraction of
+        a percent from the truth), so the diagnosis measures a gap and its noise floor on the
+        same means (:func:`simgap.diagnosis.shrink.scored_above_noise`). A target with any
+        objective metric at its own resolution, or metrics at different ones, is judged sample
+        by sample."""
+        from ..durations import parse_duration
+
+        out = {}
+        for t in self.prepared.wf.model.targets:
+            specs = [m for m in t.metrics if m.objective] or list(t.metrics)
+            written = {str(m.resolution) if m.resolution is not None else None for m in specs}
+            if len(written) == 1 and None not in written:
+                (period,) = written
+                out[t.name] = (period, int(parse_duration(period).value))
+        return out
+
+    @property
     def training_lags(self) -> dict[str, float]:
         """Per target, the best lag of the simulation against the measurement in the training
         data (the longest training piece), computed once."""

@@ -649,7 +649,8 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
         if noise:
             lines += ["", "| target (validation) | RMSE before | RMSE after | noise floor | gap above noise: shrink |", "|---|---|---|---|---|"]
             for t, v in noise.items():
-                lines.append(f"| {t} | {_fmt(v['rmse_before'])} | {_fmt(v['rmse_after'])} | {_fmt(v['noise'])} | {_pct(v['shrink'])} |")
+                means = f" ({ctx.judged_at[t][0]} means)" if t in ctx.judged_at else ""
+                lines.append(f"| {t}{means} | {_fmt(v['rmse_before'])} | {_fmt(v['rmse_after'])} | {_fmt(v['noise'])} | {_pct(v['shrink'])} |")
         if is_control:
             lines += ["", f"Re-tuning alone shrinks the gap above the noise floor by {_pct(s['gap_shrink'])}."]
             fitted = within_noise(s)
