@@ -18,6 +18,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..config import LoadedWorkflow, Workflow, validation_error
+from ..durations import parse_duration
 from ..errors import ConfigError, SimgapError
 from ..evaluation import STATUS_OK, EvaluationSetup, evaluate
 from ..interfaces import DiagnosisData
@@ -190,8 +191,6 @@ class Context:
         same means (:func:`simgap.diagnosis.shrink.scored_above_noise`). A target with any
         objective metric at its own resolution, or metrics at different ones, is judged sample
         by sample."""
-        from ..durations import parse_duration
-
         out = {}
         for t in self.prepared.wf.model.targets:
             specs = [m for m in t.metrics if m.objective] or list(t.metrics)
