@@ -330,6 +330,11 @@ class DiagnosisData:
     """Parameter values the workflow fixes (``simulator.options.start_values``): a switch already on."""
     around: tuple[Mapping, ...] = ()
     """The workflow's ``simulator.around`` entries (generic effects the calibration has already)."""
+    input_units: Mapping[str, str] = field(default_factory=dict)
+    """Unit per model input as the model states it, else as the workflow states it for the
+    measured column fed to it ('W', 'degC', 'K' ... or '' when neither does): pythonfmu and other
+    exporters write no units, so an effect that needs a heat flow or a temperature among the
+    inputs reads them here (see :meth:`input_unit`)."""
     lags: Mapping[str, float] = field(default_factory=dict)
     """Per target, the delay (s) of the simulation that best matches the measured changes in the
     training data (part 1 of the diagnosis; positive: the measurement is late). A fact about the
@@ -347,6 +352,10 @@ class DiagnosisData:
 
     def role(self, name: str) -> np.ndarray | None:
         return self.roles.get(name)
+
+    def input_unit(self, name: str) -> str:
+        """The unit of input ``name``: :attr:`input_units`, else the model variable's own."""
+        return self.input_units.get(name) or getattr(self.variables.get(name), "unit", "") or ""
 
     @property
     def temperature_targets(self) -> list[str]:

@@ -135,3 +135,39 @@ def test_a_pythonfmu_model_without_units_has_its_readings_told_apart_by_their_va
     assert ctx.units == {"y": ""}  # nothing stated, and not named like a temperature
     assert [p.name for p in InputGainError().addition(data).parameters] == ["inputGain_u"]
     assert [p.name for p in SensorOffsetGain().addition(data).parameters] == ["gain_y"]
+
+
+def test_units_the_workflow_states_for_the_data_stand_in_for_the_ones_the_model_lacks(pythonfmu_model, tmp_path):
+    """pythonfmu writes no units; the engineer wrote them on the data columns. A reading in degC
+    is then a thermometer (an offset, not a gain), an input in W a heat flow the extra heat load
+    enters through, and an outdoor temperature in degC is referred to 20 degC, not 293.15."""
+    from simgap.calibrate import calibrate
+    from simgap.diagnosis.context import build_context
+    from simgap.plugins.effects.generic import ExtraHeatLoad, InputGainError, SensorOffsetGain
+    from simgap.setup import prepare
+
+    rng = np.random.default_rng(5)
+    n = 2 * 144 + 1
+    u = np.clip(400.0 * np.sin(np.arange(n) / 20.0) + 200.0 + rng.normal(0, 40, n), 0, None)
+    path = _record_and_workflow(tmp_path, pythonfmu_model, u / 20.0, 0.05, "pythonfmu_declared", "rmse", 16)
+    frame = pd.read_csv(tmp_path / "measured.csv")
+    frame["u_W"] = frame.pop("u") * 20.0  # the heat input logged in W, the model fed it in W / 20
+    frame["amb_degC"] = 5.0 + 4.0 * np.sin(np.arange(n) / 30.0)  # logged beside, fed to nothing
+    frame.to_csv(tmp_path / "measured.csv", index=False)
+    text = path.read_text().replace("  time: time\n", "  time: time\n  columns:\n    y: {from: y, unit: degC}\n"
+                                    "    u: {from: u_W, unit: W}\n    amb: {from: amb_degC, unit: degC}\n")
+    path.write_text(text)
+    ctx = build_context(calibrate(prepare(path), workers=1))
+    assert ctx.units == {"y": "K"}  # a temperature: the workflow says degC
+    assert ctx.input_units == {"u": "W"}
+    data = ctx.data()
+    assert [p.name for p in SensorOffsetGain().addition(data).parameters] == ["offset_y"]
+    assert [p.name for p in InputGainError().addition(data).parameters] == ["inputGain_u"]
+    load = ExtraHeatLoad()
+    assert load.applies(data) is None
+    assert [p.name for p in load.addition(data).parameters] == ["extraLoad_u"]  # no outdoor input fed to the model
+    # without the workflow's word, the same record reads as before: no unit, no heat-flow input
+    path.write_text(text.replace("    u: {from: u_W, unit: W}\n", "    u: u_W\n").replace("    y: {from: y, unit: degC}\n", ""))
+    bare = build_context(calibrate(prepare(path), workers=1))
+    assert bare.units == {"y": ""} and bare.input_units == {"u": ""}
+    assert "heat-flow input" in ExtraHeatLoad().applies(bare.data())

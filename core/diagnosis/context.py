@@ -134,6 +134,8 @@ class Context:
     roles: dict[str, str] = field(default_factory=dict)
     """Role -> name of the series playing it ('input:X', 'sim:Y' or 'derived:...')."""
     units: dict[str, str] = field(default_factory=dict)
+    input_units: dict[str, str] = field(default_factory=dict)
+    """Model input -> its unit (:func:`guess_input_units`)."""
     role_sources: dict[str, str] = field(default_factory=dict)
     """Role -> where it was taken from (declared, a name, a unit, a description)."""
     operation: str = "unknown"
@@ -172,6 +174,7 @@ class Context:
             inputs=inputs,
             simulated=sim,
             units=dict(self.units),
+            input_units=dict(self.input_units),
             roles=role_series(self.roles, inputs, sim, None if self.operation == "unknown" else self.operation == "on/off"),
             variables=self.prepared.simulator.variables(),
             target_variables={t.name: t.simulated_variables[0] for t in model.targets},
@@ -334,6 +337,7 @@ def build_context(run_dir, *, solution=None, workflow=None, overrides: dict | No
         pieces.append(_piece(kind, setup, simulated))
     ctx = Context(run=run, prepared=prepared, config=config, solution_id=solution_id, parameters=params, pieces=pieces)
     ctx.units = guess_units(ctx)
+    ctx.input_units = guess_input_units(ctx)
     ctx.roles, ctx.role_sources = guess_roles(ctx)
     ctx.operation = operation(ctx)
     return ctx
@@ -352,25 +356,60 @@ _ROLE_PATTERNS = {
 }
 
 
+def declared_units(wf) -> dict[str, str]:
+    """Per column of the workflow's data, the unit its values are in as the workflow states it:
+    ``to`` where it converts, else ``unit`` (``columns: {room: {from: room_degC, unit: degC}}``).
+    A model that states no units of its own (pythonfmu writes none) is then read by what the
+    engineer wrote about the data."""
+    return {name: (spec.to or spec.unit) for name, spec in wf.model.data.columns.items() if (spec.to or spec.unit)}
+
+
+def _model_variables(ctx: Context) -> dict:
+    try:
+        return ctx.prepared.simulator.variables()
+    except Exception:  # a simulator that cannot list its variables states no units
+        return {}
+
+
 def guess_units(ctx: Context) -> dict[str, str]:
     """Per target: 'K' for a temperature, else the unit the model states for the target's
-    simulated variable ('W', 'kg/s' ...), else ''. The model's unit decides where it states one
-    (a power in W is not read as a temperature because its mean lies where kelvin do); where it
-    states none, a name starting with T and values like K or degC make a temperature."""
-    try:
-        variables = ctx.prepared.simulator.variables()
-    except Exception:  # a simulator that cannot list its variables states no units
-        variables = {}
-    target_vars = {t.name: t.simulated_variables[0] for t in ctx.prepared.wf.model.targets}
+    simulated variable ('W', 'kg/s' ...), else the unit the workflow states for its measured
+    column, else ''. The model's unit decides where it states one (a power in W is not read as a
+    temperature because its mean lies where kelvin do); where neither the model nor the workflow
+    states one, a name starting with T and values like K or degC make a temperature."""
+    variables = _model_variables(ctx)
+    declared = declared_units(ctx.prepared.wf)
+    model_targets = {t.name: t for t in ctx.prepared.wf.model.targets}
     units = {}
     for name, values in ctx.joined("measured").items():
-        stated = getattr(variables.get(target_vars.get(name, name)), "unit", "") or ""
+        target = model_targets.get(name)
+        stated = getattr(variables.get(target.simulated_variables[0] if target else name), "unit", "") or ""
+        if not (stated and dimension(stated) is not None) and target is not None:
+            stated = declared.get(target.measured_columns[0], "")
         if stated and dimension(stated) is not None:
             units[name] = "K" if dimension(stated) == "temperature" else stated
             continue
         mean = float(np.nanmean(values))
         looks_temperature = re.match(r"^t", name, re.I) is not None
         units[name] = "K" if looks_temperature and (200.0 < mean < 420.0 or -40.0 < mean < 120.0) else ""
+    return units
+
+
+def guess_input_units(ctx: Context) -> dict[str, str]:
+    """Per model input: the unit the model states for it, else the unit the workflow states for
+    the measured column fed to it, else '' (a unit simgap.units does not know counts as none).
+    Spelled as stated: the series are in it (an outdoor temperature in degC is no kelvin), and
+    an effect tells by it a heat flow (W) to enter a load through, or a temperature it must not
+    scale."""
+    variables = _model_variables(ctx)
+    declared = declared_units(ctx.prepared.wf)
+    fed = dict(ctx.prepared.wf.model.simulator.inputs)
+    units = {}
+    for name in ctx.pieces[0].inputs:
+        stated = getattr(variables.get(name), "unit", "") or ""
+        if not (stated and dimension(stated) is not None):
+            stated = declared.get(fed.get(name, name), "") or ""
+        units[name] = stated if dimension(stated) is not None else ""
     return units
 
 

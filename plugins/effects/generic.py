@@ -25,6 +25,9 @@ def _safe(name: str) -> str:
 
 
 TEMPERATURE_UNITS = frozenset({"K", "degC", "°C", "C", "degF", "°F"})
+POWER_UNITS = frozenset({"W", "kW"})
+CELSIUS_REFERENCE = {"degC": 20.0, "°C": 20.0, "C": 20.0, "degF": 68.0, "°F": 68.0, "K": 293.15}
+"""20 degC in an outdoor temperature's unit (the extra heat load's reference)."""
 
 
 def _looks_temperature(values: np.ndarray, unit: str) -> bool:
@@ -169,7 +172,7 @@ class InputGainError(_Around):
     @staticmethod
     def _inputs(data):
         return [name for name, values in data.inputs.items()
-                if not _looks_temperature(np.asarray(values, dtype=float), getattr(data.variables.get(name), "unit", "") or "")
+                if not _looks_temperature(np.asarray(values, dtype=float), data.input_unit(name))
                 and float(np.nanstd(values)) > 0]
 
     def applies(self, data):
@@ -193,19 +196,26 @@ class ExtraHeatLoad(_Around):
 
     @staticmethod
     def _heat_input(data):
+        # the unit the model or the workflow states (a pythonfmu room's 'people' input, W in
+        # the workflow only), else a heat flow's usual name
         for name in data.inputs:
-            var = data.variables.get(name)
-            unit = getattr(var, "unit", "") or ""
-            if unit == "W" or re.match(r"^(q|qdot|phi)_?", name, re.I):
+            if data.input_unit(name) in POWER_UNITS or (not data.input_unit(name) and re.match(r"^(q|qdot|phi)_?", name, re.I)):
                 return name
         return None
 
     @staticmethod
     def _outdoor_input(data):
         for name, values in data.inputs.items():
-            if re.search(r"oda|out|amb", name, re.I) and _looks_temperature(np.asarray(values, dtype=float), ""):
+            if re.search(r"oda|out|amb", name, re.I) and _looks_temperature(np.asarray(values, dtype=float), data.input_unit(name)):
                 return name
         return None
+
+    @staticmethod
+    def _reference(data, outdoor: str) -> float:
+        """20 degC in the outdoor input's own unit: the per-kelvin part is zero there, so the
+        constant stays the load at a mild day whatever the unit (in kelvin, 293.15 on a series in
+        degC would put 290 times the per-kelvin tuner into the constant)."""
+        return CELSIUS_REFERENCE.get(data.input_unit(outdoor), 293.15)
 
     def applies(self, data):
         if self._heat_input(data) is None:
@@ -222,7 +232,7 @@ class ExtraHeatLoad(_Around):
         outdoor = self._outdoor_input(data)
         if outdoor is not None:
             params.append(P(per_kelvin, 0.0, -size / 20.0, size / 20.0, "W/K", neutral=0.0))
-            entry.update(per_kelvin=per_kelvin, of=outdoor, reference=293.15)
+            entry.update(per_kelvin=per_kelvin, of=outdoor, reference=self._reference(data, outdoor))
         return [(entry, tuple(params))]
 
     def signature(self, data):

@@ -1,0 +1,397 @@
+"""The gap diagnosis on an FMU another tool exported: a pythonfmu room, blind.
+
+Every blind set before this one diagnosed FMUs simgap builds from its own C sources (named and
+described as the diagnosis expects: ``T_zone``, ``P_el``, units in the model description) or the
+EnergyPlus bungalow. This model is a Python class exported by pythonfmu (FMI 2.0 co-simulation),
+written as a third party might write it: no units and no descriptions in its model description,
+and names of its own (``room``, ``power``, ``ambient``, ``cmd``, ``solar``, ``people``). The
+workflow says what a user would say (the data columns' units), and no ``diagnose: roles:``.
+
+The plant is this script's own numpy copy of the room's law, closed by a PI thermostat with a
+night set-back (the command modulates; it stops only on sunny afternoons), driven by synthetic
+weather, logged every 10 minutes. Each case writes one withheld error onto that record with this
+script's own code (not ``simgap.around``'s): a thermometer's offset, a meter's gain, a logger's
+clock, a sensor's time constant, a logged input's gain, or a heat gain the log does not hold;
+then the case's noise. Each case is calibrated and diagnosed through the ``simgap`` command with
+the diagnosis's defaults, as a user runs them. A case is right when the first claim is the
+withheld effect, on its reading (or input), the right way round; a null case when nothing is
+claimed.
+
+    python benchmarks/diagnosis_pythonfmu.py --out DIR [--shard k/n] [--workers 1]
+    python benchmarks/diagnosis_pythonfmu.py --table DIR/results.json [...]
+
+The cases were fixed (and committed) before any of them ran.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+REPO = Path(__file__).resolve().parents[1]
+
+MODEL = '''
+import math
+
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+
+
+class room(Fmi2Slave):
+    author = "a third party"
+    description = "one-capacity room with a modulating heat pump"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.UA = 150.0
+        self.C = 3.0e7
+        self.P_nom = 1500.0
+        self.gA = 6.0
+        self.cop = 3.0
+        self.room_start = 20.0
+        self.ambient = 0.0
+        self.cmd = 0.0
+        self.solar = 0.0
+        self.people = 0.0
+        self.room = 20.0
+        for name in ("UA", "C", "P_nom", "gA", "cop"):
+            self.register_variable(Real(name, causality=Fmi2Causality.parameter, variability=Fmi2Variability.tunable))
+        self.register_variable(Real("room_start", causality=Fmi2Causality.parameter, variability=Fmi2Variability.tunable))
+        for name in ("ambient", "cmd", "solar", "people"):
+            self.register_variable(Real(name, causality=Fmi2Causality.input))
+        self.register_variable(Real("room", causality=Fmi2Causality.output))
+        self.register_variable(Real("power", causality=Fmi2Causality.output, getter=lambda: self.cmd * self.P_nom))
+
+    def exit_initialization_mode(self):
+        self.room = self.room_start
+
+    def do_step(self, current_time, step_size):
+        n = max(1, int(math.ceil(step_size / 60.0)))
+        dt = step_size / n
+        heat = self.cop * self.cmd * self.P_nom + self.people + self.gA * self.solar
+        for _ in range(n):
+            self.room += dt / self.C * (heat - self.UA * (self.room - self.ambient))
+        return True
+'''
+
+STEP_S = 600.0
+DAYS = 8
+TRUTH = {"UA": 150.0, "C": 3.0e7, "P_nom": 1500.0, "gA": 6.0}
+COP = 3.0
+NOISE = {"room": 0.05, "power": 15.0}
+TUNERS = {"UA": (60.0, 400.0), "C": (5.0e6, 1.0e8), "P_nom": (600.0, 3000.0), "gA": (0.0, 15.0)}
+
+
+@dataclass
+class Case:
+    label: str
+    effect: str | None
+    seed: int
+    offset: dict[str, float] = field(default_factory=dict)
+    """Per reading, the thermometer's offset (K)."""
+    gain: dict[str, float] = field(default_factory=dict)
+    """Per reading, the meter's gain."""
+    shift_s: float = 0.0
+    """The logger's clock late by this many seconds on every reading (not on the inputs)."""
+    lag_s: dict[str, float] = field(default_factory=dict)
+    """Per reading, the sensor's time constant (s)."""
+    input_gain: dict[str, float] = field(default_factory=dict)
+    """Per input, logged = true × factor (the plant saw the true one)."""
+    unlogged_gain_w: float = 0.0
+    """A heat gain the room has and the log does not hold (W)."""
+    noise: float = 1.0
+    """The noise's multiple of ``NOISE``."""
+
+
+# Fixed before any of them ran (session 73), none tuned after.
+CASES = [
+    Case("null", None, 31),
+    Case("room thermometer +0.4 K", "sensor_offset_gain", 32, offset={"room": 0.4}),
+    Case("power meter reads 8 % low", "sensor_offset_gain", 33, gain={"power": 0.92}),
+    Case("logger clock 20 min late", "clock_shift", 34, shift_s=1200.0),
+    Case("room thermometer time constant 20 min", "sensor_time_constant", 35, lag_s={"room": 1200.0}),
+    Case("people's gains logged 40 % low", "input_gain_error", 36, input_gain={"people": 0.6}),
+    Case("a 250-W gain the log does not hold", "extra_heat_load", 37, unlogged_gain_w=250.0),
+    Case("null, twice the noise", None, 38, noise=2.0),
+    Case("power meter time constant 10 min", "sensor_time_constant", 39, lag_s={"power": 600.0}),
+    Case("logger clock 30 min early", "clock_shift", 40, shift_s=-1800.0),
+]
+
+
+def build_fmu(folder: Path) -> Path:
+    """The room exported by pythonfmu (once per folder)."""
+    fmu = folder / "room.fmu"
+    if not fmu.exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "room.py").write_text(MODEL)
+        subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(folder / "room.py"), "-d", str(folder)],
+                       check=True, capture_output=True)
+    return fmu
+
+
+def weather(seed: int) -> pd.DataFrame:
+    """Eight January-like days at 10 min: outdoor temperature (degC), irradiance (W/m2), people's
+    gains (W). The weather's own seed is the case's (each case its own week)."""
+    rng = np.random.default_rng(seed + 1000)
+    n = int(DAYS * 86400 / STEP_S)
+    t = np.arange(n) * STEP_S
+    hour = (t / 3600.0) % 24.0
+    day = (t // 86400).astype(int)
+    drift = np.interp(t, np.arange(DAYS + 1) * 86400.0, rng.uniform(-4.0, 4.0, DAYS + 1))
+    wobble = np.zeros(n)
+    for i in range(1, n):
+        wobble[i] = 0.97 * wobble[i - 1] + rng.normal(0.0, 0.15)
+    ambient = 1.0 + drift + 4.0 * np.sin(2 * np.pi * (hour - 9.0) / 24.0) + wobble
+    clouds = rng.uniform(0.15, 1.0, DAYS)[day]
+    solar = np.clip(450.0 * clouds * np.sin(np.pi * (hour - 8.0) / 8.0), 0.0, None) * ((hour >= 8) & (hour <= 16))
+    people = np.where((hour >= 18) & (hour < 23), 420.0, np.where((hour >= 7) & (hour < 18), 220.0, 140.0))
+    people = people * np.where(day % 7 >= 5, 1.3, 1.0)
+    start = pd.Timestamp("2025-01-06 00:00")
+    return pd.DataFrame({"ambient": ambient, "solar": solar, "people": people},
+                        index=pd.DatetimeIndex(start + pd.to_timedelta(t, unit="s"), name="time"))
+
+
+def plant(case: Case) -> pd.DataFrame:
+    """The room as it was (the model's law at ``TRUTH``, sub-steps of 60 s, inputs held over each
+    10-min step) under a PI thermostat, 21 degC from 06:00 to 22:00 and 18 degC at night; the
+    unlogged gain acts here. Returns the true series: inputs, ``cmd``, ``room`` and ``power``."""
+    w = weather(case.seed)
+    n = len(w)
+    hour = ((w.index - w.index[0]).total_seconds().to_numpy() / 3600.0) % 24.0
+    setpoint = np.where((hour >= 6) & (hour < 22), 21.0, 18.0)
+    room = np.empty(n)
+    cmd = np.empty(n)
+    x, integral = 19.5, 0.4
+    for i in range(n):
+        room[i] = x
+        error = setpoint[i] - x
+        u = 0.8 * error + integral
+        cmd[i] = min(max(u, 0.0), 1.0)
+        if 0.0 < u < 1.0 or (u >= 1.0 and error < 0) or (u <= 0.0 and error > 0):  # anti-windup
+            integral += error * STEP_S / 7200.0
+        heat = COP * cmd[i] * TRUTH["P_nom"] + w["people"].iat[i] + TRUTH["gA"] * w["solar"].iat[i] + case.unlogged_gain_w
+        for _ in range(int(STEP_S / 60.0)):
+            x += 60.0 / TRUTH["C"] * (heat - TRUTH["UA"] * (x - w["ambient"].iat[i]))
+    out = w.copy()
+    out["cmd"] = cmd
+    out["room"] = room
+    out["power"] = cmd * TRUTH["P_nom"]  # the meter's 10-min mean, stamped at the interval's start
+    return out
+
+
+def as_logged(case: Case) -> pd.DataFrame:
+    """The case's errors on the plant's record, then its noise."""
+    true = plant(case)
+    seconds = (true.index - true.index[0]).total_seconds().to_numpy()
+    out = true.copy()
+    for column in ("room", "power"):
+        values = out[column].to_numpy(dtype=float)
+        if column in case.lag_s:  # exact discretisation of a first-order sensor, step by step
+            a = np.exp(-np.diff(seconds) / case.lag_s[column])
+            lagged = values.copy()
+            for i in range(1, len(values)):
+                lagged[i] = a[i - 1] * lagged[i - 1] + (1 - a[i - 1]) * values[i]
+            values = lagged
+        if case.shift_s:  # the value logged at t is what the plant had at t - shift
+            values = np.interp(seconds - case.shift_s, seconds, values)
+        out[column] = case.gain.get(column, 1.0) * values + case.offset.get(column, 0.0)
+    for column, factor in case.input_gain.items():
+        out[column] = out[column] * factor
+    rng = np.random.default_rng(case.seed)
+    for column, sd in NOISE.items():
+        out[column] = out[column] + rng.normal(0.0, sd * case.noise, len(out))
+    out["power"] = out["power"].clip(lower=0.0)
+    return out
+
+
+WORKFLOW = """\
+# blind case: {label} (seed {seed})
+name: pythonfmu_room_seed{seed}
+data:
+  file: measured.csv
+  time: time
+  columns:
+    room: {{from: room_degC, unit: degC}}
+    ambient: {{from: ambient_degC, unit: degC}}
+    power: {{from: power_W, unit: W}}
+    solar: {{from: solar_W_m2, unit: W/m2}}
+    people: {{from: people_W, unit: W}}
+    cmd: cmd
+  segments:
+    training: {{start: "0%", end: "62.5%"}}
+    validation: {{start: "62.5%", end: "100%"}}
+simulator:
+  plugin: fmu
+  options: {{fmu: {fmu}, step_size: 600, inputs_as: mean_starting}}
+  inputs: {{ambient: ambient, cmd: cmd, solar: solar, people: people}}
+  initial: {{room_start: room}}
+parameters:
+  - {{name: UA, min: {UA[0]}, max: {UA[1]}, unit: W/K}}
+  - {{name: C, min: {C[0]:.3g}, max: {C[1]:.3g}, scale: log, unit: J/K}}
+  - {{name: P_nom, min: {P_nom[0]}, max: {P_nom[1]}, unit: W}}
+  - {{name: gA, min: {gA[0]}, max: {gA[1]}, unit: m2}}
+targets:
+  - {{name: room, measured: room, simulated: room, metrics: [rmse]}}
+  - {{name: power, measured: power, simulated: power, metrics: [cvrmse]}}
+optimiser:
+  plugin: nsga2
+  options: {{population: 40}}
+  seed: 1
+  budget: {{evaluations: 2400}}
+execution:
+  timeout: 30s
+output: .
+"""
+
+
+def write_case(case: Case, fmu: Path, folder: Path) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    logged = as_logged(case).rename(columns={"room": "room_degC", "ambient": "ambient_degC", "power": "power_W",
+                                             "solar": "solar_W_m2", "people": "people_W"})
+    logged.round(4).reset_index().to_csv(folder / "measured.csv", index=False, date_format="%Y-%m-%d %H:%M:%S")
+    path = folder / "workflow.yaml"
+    path.write_text(WORKFLOW.format(label=case.label, seed=case.seed, fmu=fmu, **TUNERS))
+    return path
+
+
+def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
+    """The claim names the withheld error, on its reading or input, the right way round (the blind
+    bench's own check, ``simgap.models.blind.reading_right``); an unlogged gain claimed as an extra
+    heat load of the right sign at the record's mean outdoor temperature."""
+    if effect != case.effect:
+        return False
+    if effect == "extra_heat_load":
+        # the load added to the heat-flow input, at the record's mean outdoor temperature (the
+        # workflow states degC for it, so the diagnosis refers its per-kelvin part to 20 degC)
+        ambient = float(weather(case.seed)["ambient"].mean())
+        constant = sum(v for k, v in found.items() if k.startswith("extraLoad_"))
+        per_kelvin = sum(v for k, v in found.items() if k.startswith("extraLoadPerK_"))
+        return (constant + per_kelvin * (ambient - 20.0)) * case.unlogged_gain_w > 0
+    from simgap.models.blind import BlindCase
+    from simgap.models.blind import reading_right as right
+
+    sensor = {c: (case.offset.get(c, 0.0), case.gain.get(c, 1.0)) for c in {*case.offset, *case.gain}}
+    as_blind = BlindCase("pythonfmu_room", case.effect, seed=case.seed, sensor=sensor, lag=dict(case.lag_s),
+                         shift_s=case.shift_s, input_gain=dict(case.input_gain))
+    return bool(right(as_blind, effect, found))
+
+
+def run_case(case: Case, fmu: Path, folder: Path, workers: int) -> dict:
+    workflow = write_case(case, fmu, folder)
+    t0 = time.perf_counter()
+    run = subprocess.run([sys.executable, "-m", "simgap.cli", "run", str(workflow), "--workers", str(workers), "--figures", "none"],
+                         cwd=folder, capture_output=True, text=True)
+    t1 = time.perf_counter()
+    (folder / "run.log").write_text(run.stdout + run.stderr)
+    if run.returncode != 0:
+        return {"case": case.label, "seed": case.seed, "error": f"simgap run exited {run.returncode}"}
+    run_dir = max((p for p in folder.iterdir() if p.is_dir() and (p / "summary.json").exists()), key=lambda p: p.stat().st_mtime)
+    diag = subprocess.run([sys.executable, "-m", "simgap.cli", "diagnose", str(run_dir), "--workers", str(workers)],
+                          cwd=folder, capture_output=True, text=True)
+    t2 = time.perf_counter()
+    (folder / "diagnose.log").write_text(diag.stdout + diag.stderr)
+    if diag.returncode != 0:
+        return {"case": case.label, "seed": case.seed, "error": f"simgap diagnose exited {diag.returncode}"}
+    return {**score(case, run_dir), "calibration_s": round(t1 - t0, 1), "diagnosis_s": round(t2 - t1, 1), "load": os.getloadavg()}
+
+
+def score(case: Case, run_dir: Path) -> dict:
+    """The case's score from its stored diagnosis (and the re-tuned solution's, where it went on
+    from there)."""
+    result = json.loads((run_dir / "diagnosis" / "diagnosis.json").read_text())
+    claimed = list(result.get("claimed") or [])
+    chain = result.get("chain") or []
+    again = run_dir / "diagnosis" / "retuned" / "diagnosis.json"
+    if not chain and again.exists():
+        chain = json.loads(again.read_text()).get("chain") or []
+    found = dict(chain[0].get("effect_parameters") or {}) if chain else {}
+    first = claimed[0] if claimed else None
+    right = (not claimed) if case.effect is None else bool(first and reading_right(case, first, found))
+    recal = {r["effect"]: r for r in result.get("recalibration", []) if r.get("effect")}
+    if again.exists():
+        recal = {r["effect"]: r for r in json.loads(again.read_text()).get("recalibration", []) if r.get("effect")}
+    mine = recal.get(case.effect or "", {})
+    return {
+        "case": case.label, "seed": case.seed, "withheld": case.effect, "claimed": claimed, "found": found,
+        "ranking": [c.get("name") for c in result.get("ranking", [])][:3],
+        "roles": result.get("roles"), "right": right, "verdict": result.get("verdict"),
+        "withheld_beyond_retuning": mine.get("gap_shrink_vs_control"), "withheld_p": mine.get("p_vs_control"),
+        "withheld_found": mine.get("effect_parameters"),
+    }
+
+
+def table(paths: list[Path]) -> None:
+    rows = []
+    for p in paths:
+        rows += json.loads(Path(p).read_text())
+    rows.sort(key=lambda r: r["seed"])
+    print("| case | seed | claimed (found) | top three | withheld: beyond re-tuning (p) | right? |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        if "error" in r:
+            print(f"| {r['case']} | {r['seed']} | {r['error']} | | | no |")
+            continue
+        found = ", ".join(f"{k} {v:.3g}" for k, v in r["found"].items())
+        beyond = r.get("withheld_beyond_retuning")
+        withheld = (f"{beyond:.0%} ({r['withheld_p']:.2g})" if beyond is not None and r.get("withheld_p") is not None
+                    else "not recalibrated" if r["withheld"] else "–")
+        print(f"| {r['case']} | {r['seed']} | {', '.join(r['claimed']) or 'nothing'}{' (' + found + ')' if found else ''} "
+              f"| {', '.join(r['ranking'])} | {withheld} | {'yes' if r['right'] else 'no'} |")
+    withheld = {c.seed: c.effect for c in CASES}
+    effects = [r for r in rows if withheld.get(r["seed"]) and "error" not in r]
+    nulls = [r for r in rows if not withheld.get(r["seed"]) and "error" not in r]
+    top3 = sum(withheld[r["seed"]] in r["ranking"] for r in effects)
+    failed = sum("error" in r for r in rows)
+    print(f"\nsingle effects right: {sum(r.get('right', False) for r in effects)}/{len(effects)} (top three {top3}/{len(effects)}); "
+          f"null cases with a claim: {sum(not r.get('right', False) for r in nulls)}/{len(nulls)}"
+          + (f"; {failed} case(s) without a score" if failed else ""))
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path)
+    parser.add_argument("--shard", default="1/1")
+    parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--seeds", help="only these seeds (comma-separated)")
+    parser.add_argument("--table", nargs="+", type=Path)
+    parser.add_argument("--rescore", action="store_true", help="score the stored diagnoses in --out again (timings kept)")
+    args = parser.parse_args(argv)
+    if args.table:
+        table(args.table)
+        return
+    if args.rescore:
+        stored = json.loads((args.out / "results.json").read_text())
+        by_seed = {c.seed: c for c in CASES}
+        for row in stored:
+            folder = args.out / f"seed{row['seed']}"
+            runs = [p for p in folder.iterdir() if p.is_dir() and (p / "diagnosis" / "diagnosis.json").exists()]
+            if runs:
+                row.pop("error", None)
+                row.update(score(by_seed[row["seed"]], runs[0]))
+        (args.out / "results.json").write_text(json.dumps(stored, indent=1, default=str))
+        table([args.out / "results.json"])
+        return
+    k, n = map(int, args.shard.split("/"))
+    fmu = build_fmu(args.out / "fmu")
+    results = []
+    for i, case in enumerate(CASES):
+        if i % n != k - 1 or (args.seeds and str(case.seed) not in args.seeds.split(",")):
+            continue
+        print(f"{case.label} (seed {case.seed}) ...", flush=True)
+        results.append(run_case(case, fmu, args.out / f"seed{case.seed}", args.workers))
+        print(json.dumps(results[-1], default=str), flush=True)
+        (args.out / "results.json").write_text(json.dumps(results, indent=1, default=str))
+    table([args.out / "results.json"])
+
+
+if __name__ == "__main__":
+    main()
