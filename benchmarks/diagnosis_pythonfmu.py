@@ -110,6 +110,11 @@ class Case:
     """A heat gain the room has and the log does not hold (W)."""
     noise: float = 1.0
     """The noise's multiple of ``NOISE``."""
+    truth: dict[str, float] = field(default_factory=dict)
+    """The plant's parameters where they differ from ``TRUTH`` (one outside a tuner's bounds:
+    nothing withheld, the tuner at its bound)."""
+    lost_share: float = 0.0
+    """The share of the logged rows lost (dropped at random, the first kept)."""
 
 
 # Fixed before any of them ran (session 73), none tuned after.
@@ -124,6 +129,19 @@ CASES = [
     Case("null, twice the noise", None, 38, noise=2.0),
     Case("power meter time constant 10 min", "sensor_time_constant", 39, lag_s={"power": 600.0}),
     Case("logger clock 30 min early", "clock_shift", 40, shift_s=-1800.0),
+    # Session 73's second set, fixed and committed after the first set's table and before any
+    # of these ran:
+    Case("null, the solar aperture beyond gA's upper bound (17 m2)", None, 41, truth={"gA": 17.0}),
+    Case("room thermometer -0.25 K", "sensor_offset_gain", 42, offset={"room": -0.25}),
+    Case("power meter reads 12 % high", "sensor_offset_gain", 43, gain={"power": 1.12}),
+    Case("logger clock 10 min late", "clock_shift", 44, shift_s=600.0),
+    Case("room thermometer time constant 40 min", "sensor_time_constant", 45, lag_s={"room": 2400.0}),
+    Case("people's gains logged 25 % high", "input_gain_error", 46, input_gain={"people": 1.25}),
+    Case("a 150-W loss the log does not hold, 1.5x noise", "extra_heat_load", 47, unlogged_gain_w=-150.0, noise=1.5),
+    Case("null, 5 % of the rows lost", None, 48, lost_share=0.05),
+    Case("power meter time constant 20 min", "sensor_time_constant", 49, lag_s={"power": 1200.0}),
+    Case("logger clock 45 min early", "clock_shift", 50, shift_s=-2700.0),
+    Case("null, 3x noise", None, 51, noise=3.0),
 ]
 
 
@@ -165,6 +183,7 @@ def plant(case: Case) -> pd.DataFrame:
     10-min step) under a PI thermostat, 21 degC from 06:00 to 22:00 and 18 degC at night; the
     unlogged gain acts here. Returns the true series: inputs, ``cmd``, ``room`` and ``power``."""
     w = weather(case.seed)
+    truth = {**TRUTH, **case.truth}
     n = len(w)
     hour = ((w.index - w.index[0]).total_seconds().to_numpy() / 3600.0) % 24.0
     setpoint = np.where((hour >= 6) & (hour < 22), 21.0, 18.0)
@@ -178,13 +197,13 @@ def plant(case: Case) -> pd.DataFrame:
         cmd[i] = min(max(u, 0.0), 1.0)
         if 0.0 < u < 1.0 or (u >= 1.0 and error < 0) or (u <= 0.0 and error > 0):  # anti-windup
             integral += error * STEP_S / 7200.0
-        heat = COP * cmd[i] * TRUTH["P_nom"] + w["people"].iat[i] + TRUTH["gA"] * w["solar"].iat[i] + case.unlogged_gain_w
+        heat = COP * cmd[i] * truth["P_nom"] + w["people"].iat[i] + truth["gA"] * w["solar"].iat[i] + case.unlogged_gain_w
         for _ in range(int(STEP_S / 60.0)):
-            x += 60.0 / TRUTH["C"] * (heat - TRUTH["UA"] * (x - w["ambient"].iat[i]))
+            x += 60.0 / truth["C"] * (heat - truth["UA"] * (x - w["ambient"].iat[i]))
     out = w.copy()
     out["cmd"] = cmd
     out["room"] = room
-    out["power"] = cmd * TRUTH["P_nom"]  # the meter's 10-min mean, stamped at the interval's start
+    out["power"] = cmd * truth["P_nom"]  # the meter's 10-min mean, stamped at the interval's start
     return out
 
 
@@ -210,6 +229,10 @@ def as_logged(case: Case) -> pd.DataFrame:
     for column, sd in NOISE.items():
         out[column] = out[column] + rng.normal(0.0, sd * case.noise, len(out))
     out["power"] = out["power"].clip(lower=0.0)
+    if case.lost_share:
+        lost = rng.random(len(out)) < case.lost_share
+        lost[0] = False
+        out = out[~lost]
     return out
 
 
