@@ -207,8 +207,9 @@ def plant(case: Case) -> pd.DataFrame:
     return out
 
 
-def as_logged(case: Case) -> pd.DataFrame:
-    """The case's errors on the plant's record, then its noise."""
+def as_logged(case: Case, noise: bool = True) -> pd.DataFrame:
+    """The case's errors on the plant's record, then its noise (``noise=False``: without it, and
+    every row kept)."""
     true = plant(case)
     seconds = (true.index - true.index[0]).total_seconds().to_numpy()
     out = true.copy()
@@ -225,6 +226,8 @@ def as_logged(case: Case) -> pd.DataFrame:
         out[column] = case.gain.get(column, 1.0) * values + case.offset.get(column, 0.0)
     for column, factor in case.input_gain.items():
         out[column] = out[column] * factor
+    if not noise:
+        return out
     rng = np.random.default_rng(case.seed)
     for column, sd in NOISE.items():
         out[column] = out[column] + rng.normal(0.0, sd * case.noise, len(out))
@@ -308,6 +311,61 @@ def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
     return bool(right(as_blind, effect, found))
 
 
+def room_law(params: dict[str, float], logged: pd.DataFrame, room0: float) -> dict[str, np.ndarray]:
+    """The model's own law (the FMU's, in numpy) fed the logged inputs from ``room0``: room and
+    power at every logged stamp."""
+    n = len(logged)
+    ambient, cmd = logged["ambient"].to_numpy(), logged["cmd"].to_numpy()
+    heat = COP * cmd * params["P_nom"] + logged["people"].to_numpy() + params["gA"] * logged["solar"].to_numpy()
+    room = np.empty(n)
+    x = room0
+    for i in range(n):
+        room[i] = x
+        for _ in range(int(STEP_S / 60.0)):
+            x += 60.0 / params["C"] * (heat[i] - params["UA"] * (x - ambient[i]))
+    return {"room": room, "power": cmd * params["P_nom"]}
+
+
+def reach(case: Case) -> dict:
+    """Whether the record can tell the withheld error from re-tuning at all (as
+    ``simgap.models.blind.retuning_reach`` does for the FMU bench). The *perfect* model is the
+    plant with its withheld error, noise-free; *re-tuning alone* is the model's own law fitted by
+    bounded least squares to that noise-free record's training part, from the true tuners (so
+    neither the noise nor a distant start limits how well it imitates the error), each piece
+    started from the logged room reading as the workflow starts it (``initial: room_start: room``). Against the measured validation record: per target
+    the mean squared error re-tuning leaves above the perfect model's, in noise variances
+    (``excess``), and the diagnosis's own paired test of the perfect model against re-tuning
+    (``p``)."""
+    from scipy.optimize import least_squares
+
+    from simgap.diagnosis.shrink import improvement_p_value
+
+    clean = as_logged(case, noise=False)
+    measured = as_logged(case).reindex(clean.index)
+    logged_room = clean["room"].to_numpy()
+    split = int(round(0.625 * len(clean)))
+    train, valid = clean.iloc[:split], clean.iloc[split:]
+    names = list(TRUTH)
+    scale = {"room": NOISE["room"], "power": NOISE["power"]}
+
+    def residuals(x):
+        sim = room_law(dict(zip(names, x)), train, logged_room[0])
+        return np.concatenate([(sim[t] - train[t].to_numpy()) / scale[t] for t in scale])
+
+    lower, upper = [TUNERS[k][0] for k in names], [TUNERS[k][1] for k in names]
+    start = np.clip([TRUTH[k] for k in names], lower, upper)
+    fit = least_squares(residuals, start, bounds=(lower, upper), x_scale=np.array(upper) - np.array(lower), diff_step=0.01)
+    retuned = room_law(dict(zip(names, fit.x)), valid, logged_room[split])
+    perfect = {t: valid[t].to_numpy() for t in scale}
+    meas = {t: measured[t].to_numpy()[split:] for t in scale}
+    ok = {t: np.isfinite(meas[t]) for t in scale}
+    e_perfect = {t: (perfect[t] - meas[t])[ok[t]] for t in scale}
+    e_retuned = {t: (retuned[t] - meas[t])[ok[t]] for t in scale}
+    excess = {t: (float(np.mean(e_retuned[t] ** 2)) - float(np.mean(e_perfect[t] ** 2))) / (scale[t] * case.noise) ** 2 for t in scale}
+    p = improvement_p_value(e_perfect, e_retuned, {t: 1.0 for t in scale})
+    return {"p": p, "excess": excess, "retuned": dict(zip(names, (float(v) for v in fit.x)))}
+
+
 def run_case(case: Case, fmu: Path, folder: Path, workers: int) -> dict:
     workflow = write_case(case, fmu, folder)
     t0 = time.perf_counter()
@@ -387,7 +445,18 @@ def main(argv=None) -> None:
     parser.add_argument("--seeds", help="only these seeds (comma-separated)")
     parser.add_argument("--table", nargs="+", type=Path)
     parser.add_argument("--rescore", action="store_true", help="score the stored diagnoses in --out again (timings kept)")
+    parser.add_argument("--reach", action="store_true", help="only the cases' reach: can the record tell the error from re-tuning?")
     args = parser.parse_args(argv)
+    if args.reach:
+        print("| case | seed | p (perfect against re-tuning) | excess on validation (noise variances) | re-tuned |")
+        print("|---|---|---|---|---|")
+        for case in CASES:
+            if case.effect is None or (args.seeds and str(case.seed) not in args.seeds.split(",")):
+                continue
+            r = reach(case)
+            print(f"| {case.label} | {case.seed} | {r['p']:.2g} | " + ", ".join(f"{t} {v:.2f}" for t, v in r["excess"].items())
+                  + " | " + ", ".join(f"{k} {v:.4g}" for k, v in r["retuned"].items()) + " |", flush=True)
+        return
     if args.table:
         table(args.table)
         return
