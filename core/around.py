@@ -54,7 +54,14 @@ class OutputLag(_Entry):
 
 
 class OutputOffsetGain(_Entry):
-    """The sensor reads ``reference + gain * (y - reference) + offset``."""
+    """The sensor reads ``reference + gain * (y - reference) + offset``.
+
+    A model parameter that starts a simulation from this reading (``simulator.initial``: a
+    zone's temperature at each segment's start) is given what the plant had, the reading with the
+    sensor's error taken off, ``reference + (reading - offset - reference) / gain``: a model
+    started from the reading as it is carries the offset twice until its state forgets its start
+    (days, for a zone: a room thermometer 0.4 K high, recalibrated with its true offset, started
+    0.4 K warm and stayed so through most of a 3-day validation record)."""
 
     apply: Literal["output_offset_gain"]
     offset: Value = 0.0
@@ -163,9 +170,12 @@ class AroundSimulator(Simulator):
 
     name = "around"
 
-    def __init__(self, inner: Simulator, entries: list[AroundEntry]):
+    def __init__(self, inner: Simulator, entries: list[AroundEntry], starts: Mapping[str, tuple[str, ...]] | None = None):
+        """``starts``: per model output, the parameters that start a simulation from its
+        measured reading (``simulator.initial``; :func:`simgap.setup.readings_that_start`)."""
         self.inner = inner
         self.entries = list(entries)
+        self.starts = {k: tuple(v) for k, v in (starts or {}).items()}
         self.options = inner.options
         self.context = inner.context
         self.own = parameter_names(self.entries)
@@ -203,6 +213,13 @@ class AroundSimulator(Simulator):
         if missing:
             raise SimulationFailed(f"simulator.around needs a value for {', '.join(missing)} (a tuner or a number)")
         inner_params = {k: v for k, v in parameters.items() if k not in own}
+        for e in self.entries:
+            # a state started from a reading starts where the plant was (OutputOffsetGain)
+            if isinstance(e, OutputOffsetGain):
+                gain, offset = _value(e.gain, own), _value(e.offset, own)
+                for name in self.starts.get(e.variable, ()):
+                    if name in inner_params and gain != 0.0:
+                        inner_params[name] = e.reference + (float(inner_params[name]) - offset - e.reference) / gain
         inputs = {k: np.asarray(v, dtype=float).copy() for k, v in case.inputs.items()}
         for e in self.entries:
             if e.variable not in inputs:
@@ -264,9 +281,11 @@ def _with_warmup_outputs(case: SimulationCase) -> tuple[SimulationCase, int]:
     return replace(case, output_time=np.concatenate([warm, t]), key=f"{case.key}|warm-up outputs"), len(warm)
 
 
-def wrap(inner: Simulator, entries: list[dict[str, Any]] | list[AroundEntry]) -> Simulator:
-    """``inner`` with ``entries`` around it (``inner`` itself when there are none)."""
+def wrap(inner: Simulator, entries: list[dict[str, Any]] | list[AroundEntry],
+         starts: Mapping[str, tuple[str, ...]] | None = None) -> Simulator:
+    """``inner`` with ``entries`` around it (``inner`` itself when there are none); ``starts`` as
+    for :class:`AroundSimulator`."""
     parsed = [e if isinstance(e, BaseModel) else None for e in entries]
     if any(p is None for p in parsed):
         parsed = parse(list(entries))
-    return AroundSimulator(inner, parsed) if parsed else inner
+    return AroundSimulator(inner, parsed, starts) if parsed else inner

@@ -108,6 +108,10 @@ class EvaluationSetup:
     """Per case, parameter values taken from the data (initial states); tuners override none."""
     classes: list[ClassRun] | None = None
     """Calibration classes (see :class:`ClassRun`); None: one simulation with the tuners as named."""
+    initial_readings: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    """Per model output, the ``case_parameters`` taken from its target's measured reading
+    (:func:`simgap.setup.readings_that_start`): an effect added around the simulator that
+    corrects the reading corrects them too."""
     columns: list[str] = field(init=False)
 
     def __post_init__(self):

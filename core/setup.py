@@ -89,12 +89,28 @@ def _build_simulator(wf: LoadedWorkflow, registry: Registry) -> Simulator:
     return _around(wf, simulator) if cfg.around else simulator
 
 
+def readings_that_start(wf: LoadedWorkflow) -> dict[str, tuple[str, ...]]:
+    """Per model output, the parameters ``simulator.initial`` starts from the measured column of
+    a target that output simulates (``initial: {T_zone_start: T_zone}`` beside a target
+    ``{measured: T_zone, simulated: T_zone}``): a sensor's offset on that output is taken off
+    them (:class:`simgap.around.OutputOffsetGain`)."""
+    m = wf.model
+    out: dict[str, tuple[str, ...]] = {}
+    for t in m.targets:
+        columns = set(t.measured_columns)
+        params = tuple(p for p, column in m.simulator.initial.items() if column in columns)
+        if params:
+            variable = t.simulated_variables[0]
+            out[variable] = tuple(dict.fromkeys(out.get(variable, ()) + params))
+    return out
+
+
 def _around(wf: LoadedWorkflow, simulator: Simulator) -> Simulator:
     """The simulator with ``simulator.around`` applied (generic effects on inputs/outputs)."""
     from .around import AroundSimulator, parse
 
     try:
-        wrapped = AroundSimulator(simulator, parse(wf.model.simulator.around))
+        wrapped = AroundSimulator(simulator, parse(wf.model.simulator.around), readings_that_start(wf))
     except ValidationError as exc:
         raise validation_error(wf.doc, exc, prefix=("simulator", "around")) from None
     for index, problem in wrapped.check():
@@ -315,6 +331,7 @@ def _setup(wf: LoadedWorkflow, registry: Registry, simulator, data, segs, notes)
         timeout_s=timeout,
         case_parameters=initial if any(initial) else None,
         classes=runs,
+        initial_readings=readings_that_start(wf),
     )
 
 

@@ -102,6 +102,27 @@ def test_output_lag_and_shift_carry_the_warm_up_history(tmp_path):
     assert np.abs(naive - np.ravel(warm["T_zone"]))[:10].max() > 0.05
 
 
+def test_a_state_started_from_a_reading_starts_without_the_readings_offset(tmp_path):
+    """The quickstart starts the zone from its thermometer (``initial: {T_zone_start: T_zone}``).
+    With the thermometer reading 0.4 K high and the offset around the simulator, the model starts
+    where the zone was: its reading is the plain model's on the true record plus 0.4 K, from the
+    first sample on (started from the reading as it is, it would read 0.8 K high at first, the
+    zone forgetting its start over a day)."""
+    from simgap.evaluation import evaluate
+
+    frame = pd.read_csv(DATA)
+    values = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
+    plain = evaluate(prepare(_workflow(tmp_path / "plain", frame)).validation, -1, values, keep_series=True)["series"]
+    high = frame.assign(T_zone_degC=frame["T_zone_degC"] + 0.4)
+    path = _workflow(tmp_path / "high", high)
+    path.write_text(path.read_text().replace("  initial:", "  around:\n  - {apply: output_offset_gain, variable: T_zone, offset: 0.4}\n  initial:", 1))
+    setup = prepare(path).validation
+    assert setup.initial_readings == {"T_zone": ("T_zone_start",)}
+    read = evaluate(setup, -1, values, keep_series=True)["series"]
+    np.testing.assert_allclose(np.ravel(read["T_zone"]), np.ravel(plain["T_zone"]) + 0.4, atol=1e-6)
+    np.testing.assert_allclose(np.ravel(read["P_el"]), np.ravel(plain["P_el"]), atol=1e-6)
+
+
 def test_around_bad_entry_names_its_line(tmp_path):
     frame = pd.read_csv(DATA)
     path = _workflow(tmp_path, frame)

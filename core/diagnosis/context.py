@@ -283,7 +283,7 @@ def with_addition(setup: EvaluationSetup, addition) -> EvaluationSetup:
         return setup
     from ..around import wrap
 
-    return dataclasses.replace(setup, simulator=wrap(setup.simulator, [dict(e) for e in around]))
+    return dataclasses.replace(setup, simulator=wrap(setup.simulator, [dict(e) for e in around], setup.initial_readings))
 
 
 def simulate(setup: EvaluationSetup, params: dict[str, float], addition=None) -> dict[str, np.ndarray] | None:
