@@ -287,6 +287,32 @@ def test_a_claimed_reading_error_says_where_a_tuner_makes_its_change():
     assert "not determined" not in verdict([gain])
 
 
+def test_a_reading_error_re_tuning_makes_on_every_reading_is_not_claimed():
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import verdict
+
+    # the blind pythonfmu room's null case 41 (session 73): its solar aperture beyond the tuner's
+    # bound, and a room offset and a power gain claimed that UA and P_nom each make all of
+    loose = Candidate("sensor_offset_gain", "", "", True, significant=True, confirm=True, min_shrink=0.2)
+    loose.gap_shrink, loose.shrink_vs_control, loose.p_vs_control, loose.training_shrink_vs_control = 0.20, 0.22, 1e-6, 0.2
+    loose.reading_error = True
+    loose.per_target = {"room": {"share": 0.66, "reproduced_by_tuners": 1.0, "most_like": "UA"},
+                        "power": {"share": 0.2, "reproduced_by_tuners": 0.999, "most_like": "P_nom"}}
+    assert loose.passes_tests and loose.undetermined_only and not loose.claimed
+    text = verdict([loose])
+    assert text.startswith("no confirmed unmodelled effect; not claimed, re-tuning alone makes its change on every reading it reads"), text
+    assert "re-tuning P_nom makes 100% of its change of power, re-tuning UA makes 100% of its change of room" in text
+    assert "a tuner at its bound" in text
+    # a reading the data pin (a tenth of its change left to them) makes it a claim again
+    loose.per_target["room"]["reproduced_by_tuners"] = 0.95
+    assert loose.claimed and not loose.undetermined_only
+    assert verdict([loose]).startswith("most likely unmodelled effect: sensor_offset_gain")
+    # a physical effect's parameters are no readings: the rule is the reading errors'
+    loose.per_target["room"]["reproduced_by_tuners"] = 1.0
+    loose.reading_error = False
+    assert loose.claimed
+
+
 def test_a_control_that_gains_on_validation_only_is_no_sign_of_an_unconverged_calibration():
     from simgap.diagnosis.report import control_gap_shrink
 

@@ -53,6 +53,11 @@ where nothing else is claimed, a physical effect past chance at half the signifi
 claimed from this shrink beyond re-tuning alone (:func:`simgap.diagnosis.run.modest_claim`)."""
 
 
+UNDETERMINED = 0.99
+"""A reading's part of a reading error is not determined where re-tuning alone makes at least
+this share of its change there (nearly all: the imitation threshold ``LIKE_RETUNING`` of 0.9
+leaves a tenth of the change for the data to pin the value with)."""
+
 WITHIN_NOISE_SHRINK = 2.0
 """Where re-tuning alone fits every target to within the noise (:func:`simgap.diagnosis.shrink.within_noise`),
 a claim needs this many times the confirmation threshold beyond re-tuning (``diagnose:
@@ -253,7 +258,33 @@ class Candidate:
         return self.confirmed and self.noise_held
 
     @property
+    def undetermined_everywhere(self) -> bool:
+        """A reading error whose change on every reading it reads re-tuning alone makes (nearly)
+        all of (``UNDETERMINED``, with the tuner named): no value of it is determined by these
+        data. Whatever it gains beyond re-tuning then comes from where re-tuning could not go (a
+        tuner held at its bound, a search that stopped short), not from the reading (the blind
+        pythonfmu room's null case with its solar aperture beyond its tuner's bound: a room
+        thermometer offset of -0.43 K and a power meter gain of 1.16, each of which re-tuning makes
+        100 % of, claimed 22 % beyond re-tuning)."""
+        if not self.reading_error:
+            return False
+        known = [v for v in self.per_target.values() if v.get("reproduced_by_tuners") is not None]
+        return bool(known) and all(v["reproduced_by_tuners"] >= UNDETERMINED and v.get("most_like") for v in known)
+
+    @property
+    def undetermined_only(self) -> bool:
+        """Confirmed by every other test, but a reading error no value of which the data
+        determine (:attr:`undetermined_everywhere`): not claimed; the verdict says why."""
+        return self.passes_tests and self.gap_shrink is not None and self.undetermined_everywhere
+
+    @property
     def confirmed(self) -> bool:
+        """Significant, and where a recalibration ran, confirmed by a real shrink of the gap, and
+        not a reading error whose every value re-tuning makes as well (:attr:`undetermined_everywhere`)."""
+        return self.passes_tests and not self.undetermined_only
+
+    @property
+    def passes_tests(self) -> bool:
         """Significant, and where a recalibration ran, confirmed by a real shrink of the gap."""
         if not (self.significant or (self.pointed_at and self.gap_shrink is not None)):
             return False
@@ -354,6 +385,7 @@ class Candidate:
         the screening pointed (a switching effect's fit can be too narrow for the search)."""
         return (self.pointed_at and self.gap_shrink is not None and not self.claimed and not self.undecided
                 and not self.like_retuning and not self.reopened and not self.fitted_no_better and not self.within_noise_only
+                and not self.undetermined_only
                 and not self.unconfirmed_next and not self.control_beaten)
 
     def as_dict(self) -> dict:

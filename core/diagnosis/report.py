@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .context import ROLES, Context
-from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, MODEST, REOPENS_AT_MOST, WITHIN_NOISE_SHRINK
+from .ranking import AS_SIMULATED_SLOT, LIKE_RETUNING, MODEST, REOPENS_AT_MOST, UNDETERMINED, WITHIN_NOISE_SHRINK
 from .shrink import within_noise
 from .where import gap_warning, holds_more_error, rolling_error, worst_windows
 
@@ -242,7 +242,7 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     else:
         # "significant" is the screening's word: once a significant effect has been recalibrated
         # and not borne out, nothing was confirmed, which is not the same as nothing significant
-        unfitted = [c for c in candidates if c.applicable and (c.fitted_no_better or c.within_noise_only)]
+        unfitted = [c for c in candidates if c.applicable and (c.fitted_no_better or c.within_noise_only or c.undetermined_only)]
         parts.append("no significant unmodelled effect" if not (possible or alike or undecided or rejected or unfitted)
                      else "no confirmed unmodelled effect")
         threshold = max((c.min_shrink for c in candidates), default=0.2)  # the screened ones carry the setting
@@ -305,6 +305,15 @@ def caveats(candidates) -> list[str]:
                      "of it: " + "; ".join(
                          f"{c.name} ({c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink:.0%} "
                          "beyond re-tuning of that remainder)" for c in fitted))
+    loose = [c for c in candidates if c.applicable and c.undetermined_only][:2]
+    if loose:
+        parts.append("not claimed, re-tuning alone makes its change on every reading it reads, so no value of it is "
+                     "determined by these data: " + "; ".join(
+                         f"{c.name} ({c.shrink_vs_control if c.shrink_vs_control is not None else c.gap_shrink:.0%} beyond "
+                         "re-tuning, " + ", ".join(f"re-tuning {v['most_like']} makes {v['reproduced_by_tuners']:.0%} of its change of {t}"
+                                                   for t, v in sorted(c.per_target.items()) if v.get("most_like")) + ")" for c in loose)
+                     + "; what it gains beyond re-tuning comes from where re-tuning could not go: a tuner at its bound, "
+                       "or a search that stopped short")
     unfitted = [c for c in candidates if c.applicable and c.fitted_no_better][:2]
     if unfitted:
         parts.append("not claimed, no better than re-tuning alone on the training data it was fitted to: " + "; ".join(
@@ -326,12 +335,6 @@ def caveats(candidates) -> list[str]:
 def noise_gaps(gaps: dict[str, float]) -> str:
     """"T: g noise variances above the floor, …" for :func:`simgap.diagnosis.shrink.within_noise`'s gaps."""
     return ", ".join(f"{t}: {g:.2g} noise variances above the floor" for t, g in gaps.items())
-
-
-UNDETERMINED = 0.99
-"""A reading's part of a claimed reading error is not determined where re-tuning alone makes at
-least this share of its change there (nearly all: the imitation threshold ``LIKE_RETUNING`` of
-0.9 leaves a tenth of the change for the data to pin the value with)."""
 
 
 def undetermined_readings(c) -> str:
