@@ -142,6 +142,19 @@ CASES = [
     Case("power meter time constant 20 min", "sensor_time_constant", 49, lag_s={"power": 1200.0}),
     Case("logger clock 45 min early", "clock_shift", 50, shift_s=-2700.0),
     Case("null, 3x noise", None, 51, noise=3.0),
+    # Session 73's third set, fixed and committed after set 2's table and the rule that a reading
+    # error none of whose values the data determine is not claimed, before any of these ran:
+    # mostly null cases, four with a tuner's truth at or beyond its bound
+    Case("null", None, 52),
+    Case("null, the envelope below UA's lower bound (52 W/K)", None, 53, truth={"UA": 52.0}),
+    Case("null, the capacity beyond C's upper bound (1.3e8 J/K)", None, 54, truth={"C": 1.3e8}),
+    Case("null, the heat pump beyond P_nom's upper bound (3300 W)", None, 55, truth={"P_nom": 3300.0}),
+    Case("null, 10 % of the rows lost, 1.5x noise", None, 56, lost_share=0.10, noise=1.5),
+    Case("room thermometer +0.6 K", "sensor_offset_gain", 57, offset={"room": 0.6}),
+    Case("logger clock 15 min late", "clock_shift", 58, shift_s=900.0),
+    Case("a 400-W gain the log does not hold", "extra_heat_load", 59, unlogged_gain_w=400.0),
+    Case("power meter time constant 5 min", "sensor_time_constant", 60, lag_s={"power": 300.0}),
+    Case("null, no solar gain at all (gA's truth at its lower bound 0)", None, 61, truth={"gA": 0.0}),
 ]
 
 
