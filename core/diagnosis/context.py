@@ -383,10 +383,9 @@ def guess_units(ctx: Context) -> dict[str, str]:
     units = {}
     for name, values in ctx.joined("measured").items():
         target = model_targets.get(name)
-        stated = getattr(variables.get(target.simulated_variables[0] if target else name), "unit", "") or ""
-        if not (stated and dimension(stated) is not None) and target is not None:
-            stated = declared.get(target.measured_columns[0], "")
-        if stated and dimension(stated) is not None:
+        stated = (_stated_unit(variables, declared, target.simulated_variables[0], target.measured_columns[0]) if target
+                  else _stated_unit(variables, declared, name, None))
+        if stated:
             units[name] = "K" if dimension(stated) == "temperature" else stated
             continue
         mean = float(np.nanmean(values))
@@ -404,13 +403,16 @@ def guess_input_units(ctx: Context) -> dict[str, str]:
     variables = _model_variables(ctx)
     declared = declared_units(ctx.prepared.wf)
     fed = dict(ctx.prepared.wf.model.simulator.inputs)
-    units = {}
-    for name in ctx.pieces[0].inputs:
-        stated = getattr(variables.get(name), "unit", "") or ""
-        if not (stated and dimension(stated) is not None):
-            stated = declared.get(fed.get(name, name), "") or ""
-        units[name] = stated if dimension(stated) is not None else ""
-    return units
+    return {name: _stated_unit(variables, declared, name, fed.get(name, name)) for name in ctx.pieces[0].inputs}
+
+
+def _stated_unit(variables: dict, declared: dict[str, str], variable: str, column: str | None) -> str:
+    """The unit the model states for ``variable``, else the one the workflow states for the data
+    ``column``, else '' (a unit simgap.units does not know counts as none)."""
+    for unit in (getattr(variables.get(variable), "unit", "") or "", declared.get(column, "") if column else ""):
+        if unit and dimension(unit) is not None:
+            return unit
+    return ""
 
 
 _ROLE_DIMENSIONS = {"outdoor_temperature": ("temperature",), "humidity": ("fraction",), "flow": ("mass flow", "volume flow"), "power": ("power",)}
