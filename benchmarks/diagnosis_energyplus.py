@@ -20,10 +20,7 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import subprocess
 import sys
-import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -32,6 +29,8 @@ import pandas as pd
 import yaml
 
 REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from blind_cli import calibrate_and_diagnose, stored_claims  # noqa: E402
 sys.path.insert(0, str(REPO / "examples" / "energyplus"))
 
 
@@ -145,45 +144,19 @@ def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
 
 def run_case(case: Case, clean: pd.DataFrame, folder: Path, workers: int, workflow: str = "5min") -> dict:
     workflow = write_case(case, clean, folder, workflow)
-    t0 = time.perf_counter()
-    run = subprocess.run([sys.executable, "-m", "simgap.cli", "run", str(workflow), "--workers", str(workers), "--figures", "none"],
-                         cwd=folder, capture_output=True, text=True)
-    t1 = time.perf_counter()
-    (folder / "run.log").write_text(run.stdout + run.stderr)
-    if run.returncode != 0:
-        return {"case": case.label, "seed": case.seed, "error": f"simgap run exited {run.returncode}"}
-    run_dir = max((p for p in folder.iterdir() if p.is_dir() and (p / "summary.json").exists()), key=lambda p: p.stat().st_mtime)
-    diag = subprocess.run([sys.executable, "-m", "simgap.cli", "diagnose", str(run_dir), "--workers", str(workers)],
-                          cwd=folder, capture_output=True, text=True)
-    t2 = time.perf_counter()
-    (folder / "diagnose.log").write_text(diag.stdout + diag.stderr)
-    if diag.returncode != 0:
-        return {"case": case.label, "seed": case.seed, "error": f"simgap diagnose exited {diag.returncode}"}
-    return {**score(case, run_dir), "calibration_s": round(t1 - t0, 1), "diagnosis_s": round(t2 - t1, 1), "load": os.getloadavg()}
+    run_dir, timings = calibrate_and_diagnose(workflow, folder, workers)
+    if run_dir is None:
+        return {"case": case.label, "seed": case.seed, **timings}
+    return {**score(case, run_dir), **timings}
 
 
 def score(case: Case, run_dir: Path) -> dict:
     """The case's score from its stored diagnosis."""
-    result = json.loads((run_dir / "diagnosis" / "diagnosis.json").read_text())
-    claimed = list(result.get("claimed") or [])
-    chain = result.get("chain") or []
-    again = run_dir / "diagnosis" / "retuned" / "diagnosis.json"
-    if not chain and again.exists():  # diagnosed again from the re-tuned solution: its claims are there
-        chain = json.loads(again.read_text()).get("chain") or []
-    found = dict(chain[0].get("effect_parameters") or {}) if chain else {}
+    stored = stored_claims(run_dir, case.effect)
+    claimed, found = stored["claimed"], stored["found"]
     first = claimed[0] if claimed else None
     right = (not claimed) if case.effect is None else bool(first and reading_right(case, first, found))
-    recal = {r["effect"]: r for r in result.get("recalibration", []) if r.get("effect")}
-    if again.exists():  # diagnosed again from the re-tuned solution: its recalibrations count
-        recal = {r["effect"]: r for r in json.loads(again.read_text()).get("recalibration", []) if r.get("effect")}
-    mine = recal.get(case.effect or "", {})
-    return {
-        "case": case.label, "seed": case.seed, "withheld": case.effect, "claimed": claimed, "found": found,
-        "ranking": [c.get("name") for c in result.get("ranking", [])][:3],
-        "right": right, "verdict": result.get("verdict"),
-        "withheld_beyond_retuning": mine.get("gap_shrink_vs_control"), "withheld_p": mine.get("p_vs_control"),
-        "withheld_found": mine.get("effect_parameters"),
-    }
+    return {"case": case.label, "seed": case.seed, "withheld": case.effect, **stored, "right": right}
 
 
 def table(paths: list[Path]) -> None:

@@ -1,0 +1,56 @@
+"""What the blind benches on models simgap did not write share: a case calibrated and diagnosed
+through the ``simgap`` command as a user runs them, and the claims read back from its stored
+diagnosis (``diagnosis_energyplus.py``, ``diagnosis_pythonfmu.py``)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+
+def calibrate_and_diagnose(workflow: Path, folder: Path, workers: int) -> tuple[Path | None, dict]:
+    """``simgap run`` then ``simgap diagnose`` with their defaults, logs beside the workflow:
+    (the run folder, timings and load), or (None, {"error": ...}) where a command failed."""
+    t0 = time.perf_counter()
+    run = subprocess.run([sys.executable, "-m", "simgap.cli", "run", str(workflow), "--workers", str(workers), "--figures", "none"],
+                         cwd=folder, capture_output=True, text=True)
+    t1 = time.perf_counter()
+    (folder / "run.log").write_text(run.stdout + run.stderr)
+    if run.returncode != 0:
+        return None, {"error": f"simgap run exited {run.returncode}"}
+    run_dir = max((p for p in folder.iterdir() if p.is_dir() and (p / "summary.json").exists()), key=lambda p: p.stat().st_mtime)
+    diag = subprocess.run([sys.executable, "-m", "simgap.cli", "diagnose", str(run_dir), "--workers", str(workers)],
+                          cwd=folder, capture_output=True, text=True)
+    t2 = time.perf_counter()
+    (folder / "diagnose.log").write_text(diag.stdout + diag.stderr)
+    if diag.returncode != 0:
+        return None, {"error": f"simgap diagnose exited {diag.returncode}"}
+    return run_dir, {"calibration_s": round(t1 - t0, 1), "diagnosis_s": round(t2 - t1, 1), "load": os.getloadavg()}
+
+
+def stored_claims(run_dir: Path, withheld: str | None) -> dict:
+    """A stored diagnosis's claims (and the re-tuned solution's, where it went on from there):
+    what it claimed, the first claim's parameters, the top three, the verdict, and the withheld
+    effect's own recalibration (beyond re-tuning, p, its parameters)."""
+    result = json.loads((run_dir / "diagnosis" / "diagnosis.json").read_text())
+    claimed = list(result.get("claimed") or [])
+    chain = result.get("chain") or []
+    again = run_dir / "diagnosis" / "retuned" / "diagnosis.json"
+    if not chain and again.exists():  # diagnosed again from the re-tuned solution: its claims are there
+        chain = json.loads(again.read_text()).get("chain") or []
+    recal = {r["effect"]: r for r in result.get("recalibration", []) if r.get("effect")}
+    if again.exists():  # diagnosed again from the re-tuned solution: its recalibrations count
+        recal = {r["effect"]: r for r in json.loads(again.read_text()).get("recalibration", []) if r.get("effect")}
+    mine = recal.get(withheld or "", {})
+    return {
+        "claimed": claimed,
+        "found": dict(chain[0].get("effect_parameters") or {}) if chain else {},
+        "ranking": [c.get("name") for c in result.get("ranking", [])][:3],
+        "roles": result.get("roles"), "verdict": result.get("verdict"),
+        "withheld_beyond_retuning": mine.get("gap_shrink_vs_control"), "withheld_p": mine.get("p_vs_control"),
+        "withheld_found": mine.get("effect_parameters"),
+    }
