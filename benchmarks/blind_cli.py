@@ -54,3 +54,45 @@ def stored_claims(run_dir: Path, withheld: str | None) -> dict:
         "withheld_beyond_retuning": mine.get("gap_shrink_vs_control"), "withheld_p": mine.get("p_vs_control"),
         "withheld_found": mine.get("effect_parameters"),
     }
+
+
+def score_case(case, run_dir: Path, reading_right) -> dict:
+    """A case's score from its stored diagnosis: right where the first claim is the withheld
+    effect as ``reading_right(case, effect, found)`` judges it, or, for a null case, nothing is
+    claimed. ``case``: a bench's case (``label``, ``seed``, ``effect``)."""
+    stored = stored_claims(run_dir, case.effect)
+    claimed, found = stored["claimed"], stored["found"]
+    first = claimed[0] if claimed else None
+    right = (not claimed) if case.effect is None else bool(first and reading_right(case, first, found))
+    return {"case": case.label, "seed": case.seed, "withheld": case.effect, **stored, "right": right}
+
+
+def print_table(paths: list[Path], withheld_by_seed: dict, top_three: bool = False) -> None:
+    """The scored cases of ``paths`` (results.json files) as a table, then the counts; an error
+    row holds no score and is counted by its case, not as a null. ``top_three``: a column with the
+    ranking's first three and their count."""
+    rows = []
+    for p in paths:
+        rows += json.loads(Path(p).read_text())
+    rows.sort(key=lambda r: r["seed"])
+    extra = " top three |" if top_three else ""
+    print(f"| case | seed | claimed (found) |{extra} withheld: beyond re-tuning (p) | right? |")
+    print("|---|---|---|" + ("---|" if top_three else "") + "---|---|")
+    for r in rows:
+        if "error" in r:
+            print(f"| {r['case']} | {r['seed']} | {r['error']} |" + (" |" if top_three else "") + " | no |")
+            continue
+        found = ", ".join(f"{k} {v:.3g}" for k, v in r["found"].items())
+        beyond = r.get("withheld_beyond_retuning")
+        withheld = (f"{beyond:.0%} ({r['withheld_p']:.2g})" if beyond is not None and r.get("withheld_p") is not None
+                    else "not recalibrated" if r["withheld"] else "–")
+        ranking = f" {', '.join(r['ranking'])} |" if top_three else ""
+        print(f"| {r['case']} | {r['seed']} | {', '.join(r['claimed']) or 'nothing'}{' (' + found + ')' if found else ''} |"
+              f"{ranking} {withheld} | {'yes' if r['right'] else 'no'} |")
+    effects = [r for r in rows if withheld_by_seed.get(r["seed"]) and "error" not in r]
+    nulls = [r for r in rows if not withheld_by_seed.get(r["seed"]) and "error" not in r]
+    top3 = f" (top three {sum(withheld_by_seed[r['seed']] in r['ranking'] for r in effects)}/{len(effects)})" if top_three else ""
+    failed = sum("error" in r for r in rows)
+    print(f"\nsingle effects right: {sum(r.get('right', False) for r in effects)}/{len(effects)}{top3}; "
+          f"null cases with a claim: {sum(not r.get('right', False) for r in nulls)}/{len(nulls)}"
+          + (f"; {failed} case(s) without a score" if failed else ""))

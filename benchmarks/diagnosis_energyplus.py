@@ -30,7 +30,7 @@ import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, stored_claims  # noqa: E402
+from blind_cli import calibrate_and_diagnose, print_table, score_case  # noqa: E402
 sys.path.insert(0, str(REPO / "examples" / "energyplus"))
 
 
@@ -152,35 +152,11 @@ def run_case(case: Case, clean: pd.DataFrame, folder: Path, workers: int, workfl
 
 def score(case: Case, run_dir: Path) -> dict:
     """The case's score from its stored diagnosis."""
-    stored = stored_claims(run_dir, case.effect)
-    claimed, found = stored["claimed"], stored["found"]
-    first = claimed[0] if claimed else None
-    right = (not claimed) if case.effect is None else bool(first and reading_right(case, first, found))
-    return {"case": case.label, "seed": case.seed, "withheld": case.effect, **stored, "right": right}
+    return score_case(case, run_dir, reading_right)
 
 
 def table(paths: list[Path]) -> None:
-    rows = []
-    for p in paths:
-        rows += json.loads(Path(p).read_text())
-    rows.sort(key=lambda r: r["seed"])
-    print("| case | seed | claimed (found) | withheld: beyond re-tuning (p) | right? |")
-    print("|---|---|---|---|---|")
-    for r in rows:
-        if "error" in r:
-            print(f"| {r['case']} | {r['seed']} | {r['error']} | | no |")
-            continue
-        found = ", ".join(f"{k} {v:.3g}" for k, v in r["found"].items())
-        beyond = r.get("withheld_beyond_retuning")
-        withheld = f"{beyond:.0%} ({r['withheld_p']:.2g})" if beyond is not None and r.get("withheld_p") is not None else "not recalibrated" if r["withheld"] else "–"
-        print(f"| {r['case']} | {r['seed']} | {', '.join(r['claimed']) or 'nothing'}{' (' + found + ')' if found else ''} | {withheld} | {'yes' if r['right'] else 'no'} |")
-    withheld = {c.seed: c.effect for c in CASES}  # an error row holds no score: counted by its case, not as a null
-    effects = [r for r in rows if withheld.get(r["seed"]) and "error" not in r]
-    nulls = [r for r in rows if not withheld.get(r["seed"]) and "error" not in r]
-    failed = sum("error" in r for r in rows)
-    print(f"\nsingle effects right: {sum(r.get('right', False) for r in effects)}/{len(effects)}; "
-          f"null cases with a claim: {sum(not r.get('right', False) for r in nulls)}/{len(nulls)}"
-          + (f"; {failed} case(s) without a score" if failed else ""))
+    print_table(paths, {c.seed: c.effect for c in CASES}, top_three=False)
 
 
 def main(argv=None) -> None:
