@@ -349,6 +349,54 @@ def test_unrecognisable_names_get_a_report_without_empty_tables(tmp_path):
             assert i + 1 < len(lines) and lines[i + 1].startswith("|"), "\n".join(lines[max(0, i - 3) : i + 2])
 
 
+def _model_with_outdoor_input_named(folder: Path, name: str) -> Path:
+    """The quickstart zone with its outdoor temperature input renamed ``name``, without
+    descriptions or units (as pythonfmu exports a model)."""
+    import re
+    import shutil
+
+    source = folder / f"zone_{name}"
+    shutil.copytree(REPO / "examples" / "models" / "quickstart_zone", source)
+    xml = (source / "modelDescription.xml").read_text().replace('name="T_out"', f'name="{name}"')
+    xml = re.sub(r'(<ScalarVariable[^>]*?)\sdescription="[^"]*"', r"\1", xml)
+    xml = re.sub(r'(<Real[^>]*?)\s(unit|displayUnit)="[^"]*"', r"\1", re.sub(r'(<Real[^>]*?)\s(unit|displayUnit)="[^"]*"', r"\1", xml))
+    (source / "modelDescription.xml").write_text(xml)
+    (source / "quickstart_zone.c").write_text((source / "quickstart_zone.c").read_text().replace('"T_out"', f'"{name}"'))
+    return source
+
+
+@pytest.mark.parametrize("name, outdoor", [("ambient", "weather in K"), ("ambient", "weather in degC"), ("T_amb", "weather in K"),
+                                           ("T_amb", "constant"), ("lambdaAir", "weather in K")])
+def test_an_input_named_ambient_is_the_outdoor_temperature_where_it_moves_as_weather(tmp_path, name, outdoor):
+    """'ambient' is the outdoor air to a heat pump's maker (pythonfmu rooms, manufacturers' data),
+    but a lab's constant test-hall temperature to its logger (IBPSA's measured unit): taken as the
+    outdoor temperature only where it varies as weather does; 'lambda' names no ambient. The
+    role's series is in K whatever unit the workflow states for the column."""
+    from simgap.diagnosis.context import build_context
+
+    frame = pd.read_csv(DATA)
+    if outdoor == "constant":
+        frame["T_out_degC"] = 20.0
+    path = _workflow(tmp_path, frame)
+    yaml = YAML()
+    doc = yaml.load(path.read_text())
+    doc["simulator"]["options"]["source"] = str(_model_with_outdoor_input_named(tmp_path, name))
+    doc["simulator"]["inputs"] = {name if k == "T_out" else k: v for k, v in doc["simulator"]["inputs"].items()}
+    if outdoor == "weather in degC":  # fed as logged, as to a model that takes degC
+        doc["data"]["columns"]["T_out"] = {"from": "T_out_degC", "unit": "degC"}
+    doc["optimiser"]["budget"] = {"evaluations": 32}
+    with path.open("w") as fh:
+        yaml.dump(doc, fh)
+    ctx = build_context(calibrate(prepare(path), workers=1))
+    if outdoor.startswith("weather") and name != "lambdaAir":
+        assert ctx.roles["outdoor_temperature"] == f"input:{name}"
+        assert ctx.role_sources["outdoor_temperature"] == f"guessed from the name '{name}'"
+        kelvin = ctx.data().role("outdoor_temperature")
+        assert np.nanmean(kelvin) == pytest.approx(frame["T_out_degC"].mean() + 273.15, abs=1.0)
+    else:
+        assert "outdoor_temperature" not in ctx.roles, ctx.roles
+
+
 def test_the_host_holds_no_heat_pump_model_knowledge():
     """core/ (the host, import name simgap) names none of the example heat pump models, their
     switches or variables: that knowledge lives beside the models and in the effect plugins."""

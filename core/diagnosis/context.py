@@ -24,7 +24,7 @@ from ..evaluation import STATUS_OK, EvaluationSetup, evaluate
 from ..interfaces import DiagnosisData
 from ..results import PARAM, WORKFLOW, Run, load_run
 from ..setup import Prepared, prepare
-from ..units import dimension
+from ..units import convert, dimension
 from ..yamlfile import read_yaml
 
 ROLES = ("compressor", "outdoor_temperature", "humidity", "flow", "power", "fan")
@@ -157,6 +157,21 @@ class Context:
         m, s = self.joined("measured"), self.joined("simulated")
         return {t: m[t] - s[t] for t in m}
 
+    def _roles_in_documented_units(self, series: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """The outdoor temperature in K, as DiagnosisData documents it, whatever unit the input
+        is logged in (a pythonfmu room fed its 'ambient' in degC): by the unit the model or the
+        workflow states, else by its values (a mean below 100 is degC)."""
+        kind, _, name = self.roles.get("outdoor_temperature", "").partition(":")
+        if "outdoor_temperature" not in series or kind != "input":
+            return series
+        values = np.asarray(series["outdoor_temperature"], dtype=float)
+        unit = self.input_units.get(name, "")
+        if dimension(unit) == "temperature":
+            values = convert(values, unit, "K")
+        elif not unit and float(np.nanmean(values)) < 100.0:
+            values = values + 273.15
+        return {**series, "outdoor_temperature": values}
+
     def data(self, simulated: dict[str, np.ndarray] | None = None) -> DiagnosisData:
         """What effect signatures see (training and validation joined)."""
         seconds = np.concatenate([p.seconds for p in self.pieces])
@@ -175,7 +190,7 @@ class Context:
             simulated=sim,
             units=dict(self.units),
             input_units=dict(self.input_units),
-            roles=role_series(self.roles, inputs, sim, None if self.operation == "unknown" else self.operation == "on/off"),
+            roles=self._roles_in_documented_units(role_series(self.roles, inputs, sim, None if self.operation == "unknown" else self.operation == "on/off")),
             variables=self.prepared.simulator.variables(),
             target_variables={t.name: t.simulated_variables[0] for t in model.targets},
             tuners=tuple(self.prepared.space.names),
@@ -356,6 +371,22 @@ _ROLE_PATTERNS = {
 }
 
 
+_AMBIENT_WORDS = {"amb", "ambient", "tamb", "tambient"}
+
+
+def _words(name: str) -> set[str]:
+    """A variable's name in lower-case words: split at '_', '.', digits and camel case
+    ('T_amb_degC' -> {'t', 'amb', 'deg', 'c'}, 'TAmb' -> {'tamb'})."""
+    spaced = re.sub(r"([a-z0-9])([A-Z])", r"\1 \2", name)
+    return {w.lower() for w in re.split(r"[^A-Za-z]+|\s+", spaced) if w}
+
+
+def _names_ambient(name: str) -> bool:
+    """'ambient', 'T_amb', 'Tamb', 'TAmbient' ... but not 'lambda' or a test hall's air."""
+    words = _words(name)
+    return bool(words & _AMBIENT_WORDS) and not words & {"hall", "room", "lab", "indoor", "inside", "zone"}
+
+
 def declared_units(wf) -> dict[str, str]:
     """Per column of the workflow's data, the unit its values are in as the workflow states it:
     ``to`` where it converts, else ``unit`` (``columns: {room: {from: room_degC, unit: degC}}``).
@@ -465,6 +496,11 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
         values = np.asarray(joined_inputs[name], dtype=float)
         mean = float(np.nanmean(values))
         spread = float(np.nanmax(values) - np.nanmin(values)) if np.isfinite(values).any() else 0.0
+        if _names_ambient(name) and not re.search(_ROLE_PATTERNS["outdoor_temperature"], name, re.I):
+            # 'ambient' is the outdoor air to a heat pump's maker but the test hall or plant
+            # room to a lab's logger (IBPSA's measured unit logs a constant T_Amb): taken as
+            # the outdoor temperature only where it moves as weather does
+            return (200.0 < mean < 340.0 or -40.0 < mean < 50.0) and spread > 3.0
         return 200.0 < mean < 340.0 or (-40.0 < mean < 50.0 and spread > 3.0)
 
     for role, pattern in _ROLE_PATTERNS.items():
@@ -472,7 +508,8 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
             continue
         pool = targets if role == "power" else inputs
         for name in pool:
-            if re.search(pattern, name, re.I) and plausible(role, name):
+            named = re.search(pattern, name, re.I) or (role == "outdoor_temperature" and _names_ambient(name))
+            if named and plausible(role, name):
                 roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
                 sources[role] = f"guessed from the name '{name}'"
                 break
