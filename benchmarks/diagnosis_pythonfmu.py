@@ -155,6 +155,21 @@ CASES = [
     Case("a 400-W gain the log does not hold", "extra_heat_load", 59, unlogged_gain_w=400.0),
     Case("power meter time constant 5 min", "sensor_time_constant", 60, lag_s={"power": 300.0}),
     Case("null, no solar gain at all (gA's truth at its lower bound 0)", None, 61, truth={"gA": 0.0}),
+    # Session 74's set (set 4), fixed and committed before any of it ran, after the sensor lag's
+    # writing was made physical (``lagged_reading``) and an input named 'ambient' became the
+    # outdoor temperature's role:
+    Case("power meter time constant 5 min", "sensor_time_constant", 62, lag_s={"power": 300.0}),
+    Case("room thermometer time constant 10 min", "sensor_time_constant", 63, lag_s={"room": 600.0}),
+    Case("power meter time constant 15 min", "sensor_time_constant", 64, lag_s={"power": 900.0}),
+    Case("room thermometer time constant 30 min", "sensor_time_constant", 65, lag_s={"room": 1800.0}),
+    Case("logger clock 5 min late", "clock_shift", 66, shift_s=300.0),
+    Case("logger clock 25 min early", "clock_shift", 67, shift_s=-1500.0),
+    Case("null", None, 68),
+    Case("null, twice the noise", None, 69, noise=2.0),
+    Case("people's gains logged 30 % low", "input_gain_error", 70, input_gain={"people": 0.7}),
+    Case("room thermometer -0.5 K", "sensor_offset_gain", 71, offset={"room": -0.5}),
+    Case("a 300-W gain the log does not hold, twice the noise", "extra_heat_load", 72, unlogged_gain_w=300.0, noise=2.0),
+    Case("null, the capacity below C's lower bound (4e6 J/K)", None, 73, truth={"C": 4.0e6}),
 ]
 
 
@@ -201,8 +216,10 @@ def plant(case: Case) -> pd.DataFrame:
     hour = ((w.index - w.index[0]).total_seconds().to_numpy() / 3600.0) % 24.0
     setpoint = np.where((hour >= 6) & (hour < 22), 21.0, 18.0)
     room = np.empty(n)
+    room_60s = np.empty(n * int(STEP_S / 60.0) + 1)  # the room at every sub-step (a thermometer's lag acts on it)
     cmd = np.empty(n)
     x, integral = 19.5, 0.4
+    k = 0
     for i in range(n):
         room[i] = x
         error = setpoint[i] - x
@@ -212,12 +229,50 @@ def plant(case: Case) -> pd.DataFrame:
             integral += error * STEP_S / 7200.0
         heat = COP * cmd[i] * truth["P_nom"] + w["people"].iat[i] + truth["gA"] * w["solar"].iat[i] + case.unlogged_gain_w
         for _ in range(int(STEP_S / 60.0)):
+            room_60s[k] = x
+            k += 1
             x += 60.0 / truth["C"] * (heat - truth["UA"] * (x - w["ambient"].iat[i]))
+    room_60s[k] = x
     out = w.copy()
     out["cmd"] = cmd
     out["room"] = room
     out["power"] = cmd * truth["P_nom"]  # the meter's 10-min mean, stamped at the interval's start
+    out.attrs["room_60s"] = room_60s
     return out
+
+
+FINE_S = 10.0
+"""The step (s) a sensor's lag is integrated at: its reading follows the true quantity between
+the logged samples, not only at them."""
+
+
+def lagged_reading(true: pd.DataFrame, column: str, tau: float) -> np.ndarray:
+    """What a sensor of time constant ``tau`` logs, integrated at ``FINE_S`` with the true quantity
+    as it was between samples: the room's temperature along the plant's 60-s sub-steps (linear
+    between them), read at each sample's instant; the electric power held over each 10-min step,
+    logged (as the meter's record is) as the mean of the reading over the step, stamped at its
+    start. Session 73's sets wrote ``y_i = a y_(i-1) + (1 - a) x_i`` on the samples instead,
+    as though the quantity had jumped to the next sample's value at once: a lag about half a
+    sample shorter than its stated time constant (a 5-min power meter lag read as an 83-s one)."""
+    per_step = int(STEP_S / FINE_S)
+    n = len(true)
+    fine_t = np.arange(n * per_step) * FINE_S
+    if column == "room":
+        sub = true.attrs["room_60s"]
+        quantity = np.interp(fine_t + FINE_S / 2.0, np.arange(len(sub)) * 60.0, sub)  # mid-step value
+        sample = lambda y: y[::per_step]  # noqa: E731  (read at the sample's instant)
+    else:
+        quantity = np.repeat(true[column].to_numpy(dtype=float), per_step)
+        sample = lambda y: y.reshape(n, per_step).mean(axis=1)  # noqa: E731  (the step's mean)
+    a = np.exp(-FINE_S / tau)
+    reading = np.empty(len(fine_t))
+    y = quantity[0]
+    for j in range(len(fine_t)):  # reading[j]: at the start of fine step j, then over it
+        reading[j] = y
+        y = a * y + (1.0 - a) * quantity[j]
+    if column != "room":  # the meter's mean over each fine step, not its value at the step's start
+        reading = quantity + (reading - quantity) * tau / FINE_S * (1.0 - a)
+    return sample(reading)
 
 
 def as_logged(case: Case, noise: bool = True) -> pd.DataFrame:
@@ -228,12 +283,8 @@ def as_logged(case: Case, noise: bool = True) -> pd.DataFrame:
     out = true.copy()
     for column in ("room", "power"):
         values = out[column].to_numpy(dtype=float)
-        if column in case.lag_s:  # exact discretisation of a first-order sensor, step by step
-            a = np.exp(-np.diff(seconds) / case.lag_s[column])
-            lagged = values.copy()
-            for i in range(1, len(values)):
-                lagged[i] = a[i - 1] * lagged[i - 1] + (1 - a[i - 1]) * values[i]
-            values = lagged
+        if column in case.lag_s:
+            values = lagged_reading(true, column, case.lag_s[column])
         if case.shift_s:  # the value logged at t is what the plant had at t - shift
             values = np.interp(seconds - case.shift_s, seconds, values)
         out[column] = case.gain.get(column, 1.0) * values + case.offset.get(column, 0.0)
