@@ -47,7 +47,14 @@ class _Entry(BaseModel):
 
 
 class OutputLag(_Entry):
-    """The sensor reads the output through a first-order lag of time constant ``tau`` (s)."""
+    """The sensor reads the output through a first-order lag of time constant ``tau`` (s).
+
+    A model parameter that starts a simulation from this reading (``simulator.initial``) is
+    given what the plant had: a lagging reading trails the plant by ``tau`` times its rate of
+    change, so the state starts at ``reading + tau * rate`` (the rate fitted over the reading's
+    first hour, ``SimulationCase.start_rates``) and the sensor at the reading. Started from the
+    reading as it is, a room read through a 30-min lag while it cooled at 0.4 K/h started 0.2 K
+    warm, an error its 55-h time constant carried through the whole 3-day validation record."""
 
     apply: Literal["output_lag"]
     tau: Value
@@ -129,11 +136,13 @@ def _value(v: Value, params: Mapping[str, float]) -> float:
     return float(params[v]) if isinstance(v, str) else float(v)
 
 
-def _lag(values: np.ndarray, time: np.ndarray, tau: float) -> np.ndarray:
+def _lag(values: np.ndarray, time: np.ndarray, tau: float, start: float | None = None) -> np.ndarray:
+    """``values`` read through a first-order lag; the sensor starts at ``start`` (else settled
+    at the first value)."""
     if tau <= 0 or len(values) < 2:
         return values.copy()
     out = np.empty(len(values))
-    out[0] = values[0]
+    out[0] = values[0] if start is None else start
     for i in range(1, len(values)):
         dt = max(time[i] - time[i - 1], 0.0)
         a = math.exp(-dt / tau)
@@ -213,13 +222,7 @@ class AroundSimulator(Simulator):
         if missing:
             raise SimulationFailed(f"simulator.around needs a value for {', '.join(missing)} (a tuner or a number)")
         inner_params = {k: v for k, v in parameters.items() if k not in own}
-        for e in self.entries:
-            # a state started from a reading starts where the plant was (OutputOffsetGain)
-            if isinstance(e, OutputOffsetGain):
-                gain, offset = _value(e.gain, own), _value(e.offset, own)
-                for name in self.starts.get(e.variable, ()):
-                    if name in inner_params and gain != 0.0:
-                        inner_params[name] = e.reference + (float(inner_params[name]) - offset - e.reference) / gain
+        lag_starts = self._start_where_the_plant_was(inner_params, own, case)
         inputs = {k: np.asarray(v, dtype=float).copy() for k, v in case.inputs.items()}
         for e in self.entries:
             if e.variable not in inputs:
@@ -246,7 +249,7 @@ class AroundSimulator(Simulator):
                 continue
             y = np.asarray(result[e.variable], dtype=float)
             if isinstance(e, OutputLag):
-                result[e.variable] = _lag(y, t, _value(e.tau, own))
+                result[e.variable] = _lag(y, t, _value(e.tau, own), start=lag_starts.get(e.variable))
             elif isinstance(e, OutputOffsetGain):
                 result[e.variable] = e.reference + _value(e.gain, own) * (y - e.reference) + _value(e.offset, own)
             elif isinstance(e, OutputShift):
@@ -255,6 +258,31 @@ class AroundSimulator(Simulator):
             result = {k: (v[warm:] if isinstance(v, np.ndarray) and v.ndim >= 1 and len(v) == len(t) else v)
                       for k, v in result.items()}
         return result
+
+    def _start_where_the_plant_was(self, inner_params: dict, own: Mapping[str, float], case: SimulationCase) -> dict[str, float]:
+        """Set the parameters that start a state from a reading (``self.starts``) to what the
+        plant had: the reading without its sensor's offset and gain (OutputOffsetGain), then
+        ahead of it by a lag's time constant times the reading's rate (OutputLag). Returns, per
+        lagged output started so, the value its sensor starts at (the reading, offset off)."""
+        gains: dict[str, float] = {}
+        for e in self.entries:
+            if isinstance(e, OutputOffsetGain):
+                gain, offset = _value(e.gain, own), _value(e.offset, own)
+                gains[e.variable] = gain
+                for name in self.starts.get(e.variable, ()):
+                    if name in inner_params and gain != 0.0:
+                        inner_params[name] = e.reference + (float(inner_params[name]) - offset - e.reference) / gain
+        lag_starts: dict[str, float] = {}
+        for e in self.entries:
+            if not isinstance(e, OutputLag):
+                continue
+            tau, gain = _value(e.tau, own), gains.get(e.variable, 1.0)
+            for name in self.starts.get(e.variable, ()):
+                rate = case.start_rates.get(name)
+                if name in inner_params and rate is not None and math.isfinite(rate) and tau > 0 and gain != 0.0:
+                    lag_starts.setdefault(e.variable, float(inner_params[name]))
+                    inner_params[name] = float(inner_params[name]) + tau * rate / gain
+        return lag_starts
 
     def close(self) -> None:
         self.inner.close()

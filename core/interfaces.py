@@ -82,6 +82,11 @@ class SimulationCase:
     inputs: Mapping[str, np.ndarray]
     output_time: np.ndarray
     outputs: tuple[str, ...]
+    start_rates: Mapping[str, float] = field(default_factory=dict)
+    """Per parameter ``simulator.initial`` starts from a reading, that reading's rate of change
+    (per second) at the case's start, fitted over its first hour. A simulator may ignore it; a
+    sensor's lag around the simulator starts the state from where the plant was, ahead of its
+    lagging reading by the time constant times that rate (:class:`simgap.around.OutputLag`)."""
 
 
 class Simulator(ABC):

@@ -6,9 +6,10 @@ a run would meet (bar failing simulations) without running one.
 
 from __future__ import annotations
 
+import math
 import os
 import uuid
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -216,14 +217,33 @@ def _cases(wf: LoadedWorkflow, data: MeasuredData, segs: list[Segment], token: s
             )
         )
         rows.append(out_rows)
-        values = {}
+        values, rates = {}, {}
         for param, col in m.simulator.initial.items():
             valid = sim_rows[col].dropna()
             if valid.empty:
                 raise wf.error(("simulator", "initial", param), f"column {col!r} has no value in {seg.name} to start from")
             values[param] = float(valid.iloc[0])
+            rates[param] = start_rate(valid, ref)
         initial.append(values)
+        if any(math.isfinite(r) for r in rates.values()):
+            cases[-1] = replace(cases[-1], start_rates={k: r for k, r in rates.items() if math.isfinite(r)})
     return cases, pd.concat(rows), initial
+
+
+def start_rate(readings: pd.Series, ref: pd.Timestamp, span_s: float = 3600.0) -> float:
+    """The readings' rate of change (per second) at their start: the slope of a straight line
+    through those of the first ``span_s`` (at least the first three), NaN with fewer than three.
+    A line over an hour, not the first difference: a thermometer's 0.05 K of noise over one
+    10-min step is a rate of up to 0.4 K/h, which a 30-min sensor lag would turn into 0.2 K of
+    start."""
+    t = seconds_since(pd.DatetimeIndex(readings.index), ref)
+    keep = max(3, int(np.searchsorted(t, t[0] + span_s, side="right"))) if len(t) else 0
+    if len(t) < 3:
+        return float("nan")
+    t, y = t[:keep] - t[0], readings.to_numpy(dtype=float)[:keep]
+    spread = t - t.mean()
+    denominator = float(spread @ spread)
+    return float(spread @ (y - y.mean()) / denominator) if denominator > 0 else float("nan")
 
 
 def targets_and_slots(wf: LoadedWorkflow, registry: Registry, scored: pd.DataFrame) -> tuple[list[TargetData], list[MetricSlot]]:

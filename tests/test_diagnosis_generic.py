@@ -123,6 +123,45 @@ def test_a_state_started_from_a_reading_starts_without_the_readings_offset(tmp_p
     np.testing.assert_allclose(np.ravel(read["P_el"]), np.ravel(plain["P_el"]), atol=1e-6)
 
 
+def test_a_state_started_from_a_lagging_reading_starts_where_the_zone_was(tmp_path):
+    """The zone's thermometer reads through a 40-min lag while the zone's state starts from it:
+    with the lag around the simulator the model starts ahead of the reading by the time
+    constant times its rate and the sensor at the reading, so the lagged model reads the lagged
+    record at the true parameters from the first sample on. Started from the reading as it is,
+    the model started where the zone had been 40 minutes before."""
+    from simgap.diagnosis.context import simulate
+    from simgap.evaluation import evaluate
+    from simgap.setup import start_rate
+
+    values = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
+    frame = pd.read_csv(DATA)
+    path = _workflow(tmp_path / "truth", frame)
+    yaml = YAML()
+    doc = yaml.load(path.read_text())
+    doc["data"]["segments"] = {"training": {"start": "0%", "end": "100%"}}
+    with path.open("w") as fh:
+        yaml.dump(doc, fh)
+    zone = simulate(prepare(path).training, values)["T_zone"] - 273.15  # the zone as it was, noise-free
+    tau = 2400.0
+    lagging = frame.assign(T_zone_degC=_lag(np.ravel(zone), _seconds(frame), tau))
+    entry = f"  around:\n  - {{apply: output_lag, variable: T_zone, tau: {tau}}}\n  initial:"
+    path = _workflow(tmp_path / "lagging", lagging)
+    path.write_text(path.read_text().replace("  initial:", entry, 1))
+    setup = prepare(path).validation
+    (case,) = setup.cases
+    start = pd.to_datetime(lagging["time"]) >= pd.Timestamp(case.reference_time) + pd.to_timedelta(case.start, unit="s")
+    readings = lagging.loc[start.to_numpy(), "T_zone_degC"].set_axis(pd.to_datetime(lagging.loc[start.to_numpy(), "time"]))
+    assert case.start_rates["T_zone_start"] == pytest.approx(start_rate(readings, case.reference_time))
+    assert abs(tau * case.start_rates["T_zone_start"]) > 0.05  # the record starts while the zone moves
+    read = np.ravel(evaluate(setup, -1, values, keep_series=True)["series"]["T_zone"]) - 273.15
+    measured = lagging["T_zone_degC"].to_numpy()[-len(read):]
+    assert np.max(np.abs(read - measured)) < 0.01, np.max(np.abs(read - measured))
+    # without the reading's rate the state starts where the reading is, behind the zone
+    plain = dataclasses.replace(setup, cases=[dataclasses.replace(case, start_rates={})])
+    behind = np.ravel(evaluate(plain, -1, values, keep_series=True)["series"]["T_zone"]) - 273.15
+    assert np.max(np.abs(behind - measured)) > 3 * np.max(np.abs(read - measured))
+
+
 def test_around_bad_entry_names_its_line(tmp_path):
     frame = pd.read_csv(DATA)
     path = _workflow(tmp_path, frame)
