@@ -102,7 +102,8 @@ def register_effects(register):
     screening keeps the residual's mean instead of clearing it. ``reading_error = True`` for an
     error of a reading rather than of the plant (an offset, a meter's gain): a tuner can absorb
     such an error, so the diagnosis recalibrates a significant one before it claims any other
-    effect and judges it on every target whose reading it changes.
+    effect and judges it on every target whose reading it changes; and it never moves the unit's
+    switching, so its change of a power is not screened against the running envelope.
 
     Effects are instantiated without arguments and must not keep state between calls.
     """

@@ -171,3 +171,27 @@ def test_units_the_workflow_states_for_the_data_stand_in_for_the_ones_the_model_
     bare = build_context(calibrate(prepare(path), workers=1))
     assert bare.units == {"y": ""} and bare.input_units == {"u": ""}
     assert "heat-flow input" in ExtraHeatLoad().applies(bare.data())
+
+
+def test_a_meters_error_is_not_screened_as_moving_the_units_switching(tmp_path):
+    """The blind bench's pythonfmu room (benchmarks/diagnosis_pythonfmu.py), a null case: its
+    heat pump modulates under a PI thermostat and stops at night, so the record is on/off with
+    a power that passes slowly through the running cut. A power meter's gain carries such a
+    power across the cut without changing what the unit does; the diagnosis must not screen the
+    reading error against the running envelope as a switching effect (it did, and its verdict
+    then blamed "a switching effect's times" for an unconfirmed thermometer offset)."""
+    from simgap.calibrate import calibrate
+    from simgap.diagnosis import diagnose
+    from simgap.setup import prepare
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import diagnosis_pythonfmu as bench
+
+    case = next(c for c in bench.CASES if c.seed == 52)  # a plain null case
+    path = bench.write_case(case, bench.build_fmu(tmp_path / "fmu"), tmp_path / "case")
+    path.write_text(path.read_text().replace("evaluations: 2400", "evaluations: 400"))
+    result = diagnose(calibrate(prepare(path), workers=1), overrides={"recalibrate": {"candidates": 0}}, progress=None)
+    found = json.loads((Path(result["report"]).parent / "diagnosis.json").read_text())
+    assert found["operation"] == "on/off"
+    meter = next(c for c in found["ranking"] if c["name"] == "sensor_offset_gain")
+    assert meter["applicable"] and not meter["envelope"], meter["envelope"]

@@ -1110,14 +1110,17 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         cand.from_record = read_parameters(addition, suggested)
         cand.responses = effect_responses(ctx, addition, alternatives, suggested) if addition is not None else []
         responses = [change for _, change in cand.responses]
-        moved = [moves_switches(ctx, data, change) for change in responses]
+        cand.reading_error = bool(getattr(effect, "reading_error", False))
+        # a meter's error changes what is read, never what the unit does: a power meter's gain
+        # only carries a modulating power across the running cut (blind pythonfmu rooms, where
+        # the verdict then blamed "a switching effect's times" for an unconfirmed offset)
+        moved = [False if cand.reading_error else moves_switches(ctx, data, change) for change in responses]
         best_target_share = best_envelope_share = -math.inf
         best_on_envelope = None
         cand.moved_switches = any(moved)
         about = effect.acts_on(data)
         shares, raws, ps = [], [], []
         keeps_offset = getattr(effect, "keeps_offset", False)
-        cand.reading_error = bool(getattr(effect, "reading_error", False))
         cand.same_as = str(getattr(effect, "same_as", "") or "")
         for t, (mask, views) in prepared_targets.items():
             if not responses and about is not None and t not in about:
