@@ -170,6 +170,20 @@ CASES = [
     Case("room thermometer -0.5 K", "sensor_offset_gain", 71, offset={"room": -0.5}),
     Case("a 300-W gain the log does not hold, twice the noise", "extra_heat_load", 72, unlogged_gain_w=300.0, noise=2.0),
     Case("null, the capacity below C's lower bound (4e6 J/K)", None, 73, truth={"C": 4.0e6}),
+    # Session 74's second set (set 5), fixed and committed after set 4's table, the lagging
+    # reading's start (f2efcb4) and the reading error's switching (7045b0b), before any ran:
+    Case("room thermometer time constant 15 min", "sensor_time_constant", 74, lag_s={"room": 900.0}),
+    Case("room thermometer time constant 25 min, twice the noise", "sensor_time_constant", 75, lag_s={"room": 1500.0}, noise=2.0),
+    Case("room thermometer time constant 60 min", "sensor_time_constant", 76, lag_s={"room": 3600.0}),
+    Case("room thermometer time constant 45 min, 5 % of the rows lost", "sensor_time_constant", 77, lag_s={"room": 2700.0}, lost_share=0.05),
+    Case("power meter time constant 30 min", "sensor_time_constant", 78, lag_s={"power": 1800.0}),
+    Case("logger clock 40 min late", "clock_shift", 79, shift_s=2400.0),
+    Case("room thermometer +0.8 K", "sensor_offset_gain", 80, offset={"room": 0.8}),
+    Case("power meter reads 15 % low", "sensor_offset_gain", 81, gain={"power": 0.85}),
+    Case("null", None, 82),
+    Case("null, twice the noise, 5 % of the rows lost", None, 83, noise=2.0, lost_share=0.05),
+    Case("null, the capacity at C's upper bound (1e8 J/K)", None, 84, truth={"C": 1.0e8}),
+    Case("people's gains logged 20 % high", "input_gain_error", 85, input_gain={"people": 1.2}),
 ]
 
 
