@@ -129,21 +129,13 @@ def test_a_state_started_from_a_lagging_reading_starts_where_the_zone_was(tmp_pa
     constant times its rate and the sensor at the reading, so the lagged model reads the lagged
     record at the true parameters from the first sample on. Started from the reading as it is,
     the model started where the zone had been 40 minutes before."""
-    from simgap.diagnosis.context import simulate
     from simgap.evaluation import evaluate
     from simgap.setup import start_rate
 
-    values = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
-    frame = pd.read_csv(DATA)
-    path = _workflow(tmp_path / "truth", frame)
-    yaml = YAML()
-    doc = yaml.load(path.read_text())
-    doc["data"]["segments"] = {"training": {"start": "0%", "end": "100%"}}
-    with path.open("w") as fh:
-        yaml.dump(doc, fh)
-    zone = simulate(prepare(path).training, values)["T_zone"] - 273.15  # the zone as it was, noise-free
+    values = TRUE
+    frame = _truth(tmp_path, pd.read_csv(DATA), values, noise=False)  # the zone as it was
     tau = 2400.0
-    lagging = frame.assign(T_zone_degC=_lag(np.ravel(zone), _seconds(frame), tau))
+    lagging = frame.assign(T_zone_degC=_lag(frame["T_zone_degC"].to_numpy(), _seconds(frame), tau))
     entry = f"  around:\n  - {{apply: output_lag, variable: T_zone, tau: {tau}}}\n  initial:"
     path = _workflow(tmp_path / "lagging", lagging)
     path.write_text(path.read_text().replace("  initial:", entry, 1))
@@ -271,9 +263,9 @@ def test_shipped_brine_water_diagnosis_names_what_the_model_has(tmp_path):
 TRUE = {"C_zone": 2.0e7, "UA_env": 150.0, "UA_rad": 400.0, "eta_carnot": 0.45}
 
 
-def _truth(folder: Path, frame: pd.DataFrame, parameters: dict[str, float], seed: int = 4) -> pd.DataFrame:
+def _truth(folder: Path, frame: pd.DataFrame, parameters: dict[str, float], seed: int = 4, noise: bool = True) -> pd.DataFrame:
     """``frame`` with T_zone and P_el as the quickstart FMU gives them for its inputs with
-    ``parameters`` (plus sensor noise as in the shipped data)."""
+    ``parameters`` (plus sensor noise as in the shipped data, unless ``noise`` is False)."""
     from simgap.diagnosis.context import simulate
 
     path = _workflow(folder / "truth", frame)
@@ -284,8 +276,9 @@ def _truth(folder: Path, frame: pd.DataFrame, parameters: dict[str, float], seed
         yaml.dump(doc, fh)
     series = simulate(prepare(path).training, parameters)
     rng = np.random.default_rng(seed)
-    return frame.assign(T_zone_degC=series["T_zone"] - 273.15 + rng.normal(0.0, 0.05, len(frame)),
-                        P_el_W=series["P_el"] * (1.0 + rng.normal(0.0, 0.01, len(frame))))
+    scale = 1.0 if noise else 0.0
+    return frame.assign(T_zone_degC=series["T_zone"] - 273.15 + scale * rng.normal(0.0, 0.05, len(frame)),
+                        P_el_W=series["P_el"] * (1.0 + scale * rng.normal(0.0, 0.01, len(frame))))
 
 
 def _modulating_record(folder: Path) -> pd.DataFrame:
