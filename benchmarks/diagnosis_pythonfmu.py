@@ -274,19 +274,19 @@ def lagged_reading(true: pd.DataFrame, column: str, tau: float) -> np.ndarray:
     if column == "room":
         sub = true.attrs["room_60s"]
         quantity = np.interp(fine_t + FINE_S / 2.0, np.arange(len(sub)) * 60.0, sub)  # mid-step value
-        sample = lambda y: y[::per_step]  # noqa: E731  (read at the sample's instant)
     else:
         quantity = np.repeat(true[column].to_numpy(dtype=float), per_step)
-        sample = lambda y: y.reshape(n, per_step).mean(axis=1)  # noqa: E731  (the step's mean)
     a = np.exp(-FINE_S / tau)
     reading = np.empty(len(fine_t))
     y = quantity[0]
     for j in range(len(fine_t)):  # reading[j]: at the start of fine step j, then over it
         reading[j] = y
         y = a * y + (1.0 - a) * quantity[j]
-    if column != "room":  # the meter's mean over each fine step, not its value at the step's start
-        reading = quantity + (reading - quantity) * tau / FINE_S * (1.0 - a)
-    return sample(reading)
+    if column == "room":  # the thermometer read at each sample's instant
+        return reading[::per_step]
+    # the meter: its mean over each fine step (not its value at the step's start), then over the 10-min step
+    reading = quantity + (reading - quantity) * tau / FINE_S * (1.0 - a)
+    return reading.reshape(n, per_step).mean(axis=1)
 
 
 def as_logged(case: Case, noise: bool = True) -> pd.DataFrame:

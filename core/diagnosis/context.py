@@ -496,12 +496,13 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
         values = np.asarray(joined_inputs[name], dtype=float)
         mean = float(np.nanmean(values))
         spread = float(np.nanmax(values) - np.nanmin(values)) if np.isfinite(values).any() else 0.0
+        kelvin, celsius, moves = 200.0 < mean < 340.0, -40.0 < mean < 50.0, spread > 3.0
         if _names_ambient(name) and not re.search(_ROLE_PATTERNS["outdoor_temperature"], name, re.I):
             # 'ambient' is the outdoor air to a heat pump's maker but the test hall or plant
             # room to a lab's logger (IBPSA's measured unit logs a constant T_Amb): taken as
             # the outdoor temperature only where it moves as weather does
-            return (200.0 < mean < 340.0 or -40.0 < mean < 50.0) and spread > 3.0
-        return 200.0 < mean < 340.0 or (-40.0 < mean < 50.0 and spread > 3.0)
+            return (kelvin or celsius) and moves
+        return kelvin or (celsius and moves)
 
     for role, pattern in _ROLE_PATTERNS.items():
         if role in roles:
