@@ -104,6 +104,11 @@ def register_effects(register):
     such an error, so the diagnosis recalibrates a significant one before it claims any other
     effect and judges it on every target whose reading it changes; and it never moves the unit's
     switching, so its change of a power is not screened against the running envelope.
+    Where a model may not take the effect, ``would_test`` (a string) says what would test it (a
+    switch the model lacks), and ``generic_alternative`` names an effect applied around the
+    simulator that tests a part of it: the verdict lists the effect as possible only while that
+    alternative is neither confirmed nor in the model, and says when it was recalibrated and
+    not confirmed.
 
     Effects are instantiated without arguments and must not keep state between calls.
     """

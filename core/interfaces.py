@@ -312,9 +312,9 @@ class DiagnosisData:
     target name. ``roles`` says which of these series plays a role an effect may need
     (``"compressor"``: running fraction 0..1, ``"outdoor_temperature"`` in K, ``"humidity"``
     0..1, ``"flow"``: heating-circuit mass flow, ``"power"``: electric power, ``"fan"``: the
-    outdoor-coil fan speed 0..1 as logged, ``"temperature"``:
-    the first water-temperature target): see :meth:`role`. Measured targets are deliberately
-    not here: a signature built from them would explain any residual of that target.
+    outdoor-coil fan speed 0..1 as logged, ``"zone_temperature"``: the simulated air temperature
+    of the heated room, in K): see :meth:`role`, and :attr:`played_by` for which series plays
+    each. Measured targets are deliberately not here: a signature built from them would explain any residual of that target.
     """
 
     time: np.ndarray
@@ -340,6 +340,9 @@ class DiagnosisData:
     measured column fed to it ('W', 'degC', 'K' ... or '' when neither does): pythonfmu and other
     exporters write no units, so an effect that needs a heat flow or a temperature among the
     inputs reads them here (see :meth:`input_unit`)."""
+    played_by: Mapping[str, str] = field(default_factory=dict)
+    """Role -> the series playing it: ``'input:NAME'``, ``'sim:TARGET'`` or ``'derived:...'``
+    (a compressor's running state derived from the simulated power)."""
     lags: Mapping[str, float] = field(default_factory=dict)
     """Per target, the delay (s) of the simulation that best matches the measured changes in the
     training data (part 1 of the diagnosis; positive: the measurement is late). A fact about the
@@ -364,7 +367,18 @@ class DiagnosisData:
 
     @property
     def temperature_targets(self) -> list[str]:
+        """Every target in K (water, refrigerant, air)."""
         return [t for t, u in self.units.items() if u == "K"]
+
+    @property
+    def water_temperature_targets(self) -> list[str]:
+        """The temperature targets but the zone's air (the ``zone_temperature`` role): what a
+        heat pump's condenser, pipes and controller heat. A room's thermometer read as a water
+        temperature made a pipe's heat loss "possible" in 5 of the 6 null cases of two blind
+        sets on a pythonfmu room (its signature, the temperature's excess over its mean, fits
+        any slow misfit of a room)."""
+        zone = self.played_by.get("zone_temperature", "")
+        return [t for t in self.temperature_targets if f"sim:{t}" != zone]
 
     @staticmethod
     def running_from_power(power: np.ndarray) -> np.ndarray | None:
@@ -442,6 +456,12 @@ class Effect(ABC):
     both are significant, the diagnosis recalibrates only this one, the model's own, and spends
     the other's recalibration on the next candidate: the two fit alike and the tie goes to the
     model's own anyway."""
+
+    generic_alternative: ClassVar[str] = ""
+    """The name of an effect applied around the simulator that tests a part of this one where
+    the model cannot take this one (a pipe's heat loss, ``extra_heat_load``). The verdict's
+    "possible, this model cannot take it" drops the effect where the alternative is confirmed
+    or in the model, and says so where the alternative was recalibrated and not confirmed."""
 
     alternatives: ClassVar[bool] = False
     """True when each of the effect's parameters is a cause of its own (a gain error on each

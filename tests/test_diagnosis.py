@@ -1339,3 +1339,48 @@ def test_a_reading_error_the_next_rounds_physical_effect_explains_is_not_claimed
     candidates, same = run_module.reading_error_explained(ctx, [offset2, loss2], chain, list(shrink), None, None, tmp_path,
                                                           lambda *_: None)
     assert same is chain and "on_top" not in seen and [c.name for c in candidates if c.claimed] == ["sensor_offset_gain"]
+
+
+def test_the_verdicts_possible_effects_are_what_the_last_round_left_and_their_generic_part_is_said():
+    """Blind pythonfmu rooms: round 1 listed a clock shift's likenesses (a sensor lag at 58 %, a
+    backup heater at 43 %) as "possible" beside the confirmed shift, which round 2, with the
+    shift in the model, no longer found significant; and it listed a pipe's heat loss whose
+    generic part, an extra heat load, had been recalibrated and not confirmed, without saying so.
+    The list is the last round's, and an effect whose generic alternative is confirmed or in the
+    model is not listed."""
+    from simgap.diagnosis.ranking import Candidate
+    from simgap.diagnosis.report import possible_effects, verdict
+    from simgap.interfaces import EffectAddition
+
+    def unaddable(name, share, alternative=""):
+        return Candidate(name, "", "", True, significant=True, confirm=True, share=share, p_value=0.001, alternative=alternative,
+                         would_test=f"a model with the '{name}' switch and its parameters would test it")
+
+    load = Candidate("extra_heat_load", "", "", True, addition=EffectAddition(switch={}, parameters=()), significant=True,
+                     confirm=True, min_shrink=0.2, share=0.05, p_value=0.002)
+    loss = unaddable("heat_loss", 0.10, alternative="extra_heat_load")
+    assert possible_effects([loss, load]) == [
+        "heat_loss (10%, p = 0.001) — a model with the 'heat_loss' switch and its parameters would test it; "
+        "the generic extra_heat_load tests a part of it"]
+    load.gap_shrink, load.shrink_vs_control, load.p_vs_control, load.training_shrink_vs_control = 0.5, 0.01, 0.4, 0.01
+    assert not load.claimed
+    assert possible_effects([loss, load])[0].endswith("the generic extra_heat_load tests a part of it and was not confirmed")
+    text = verdict([loss, load])
+    assert "possible, this model cannot take it: heat_loss (10%" in text
+    load.shrink_vs_control, load.p_vs_control, load.training_shrink_vs_control = 0.6, 0.001, 0.6
+    assert load.claimed and possible_effects([loss, load]) == []  # its generic part is confirmed
+    assert "heat_loss" not in verdict([loss, load])
+    in_model = Candidate("extra_heat_load", "", "", False, in_model=True)
+    assert possible_effects([loss, in_model]) == []
+
+    shift = Candidate("clock_shift", "", "", True, addition=EffectAddition(switch={}, parameters=()), significant=True,
+                      confirm=True, min_shrink=0.2, share=0.6, p_value=1e-6)
+    shift.gap_shrink, shift.shrink_vs_control, shift.p_vs_control, shift.training_shrink_vs_control = 0.8, 0.74, 1e-5, 0.7
+    heater = unaddable("backup_heater", 0.43)
+    text = verdict([shift, heater])
+    assert "possible, this model cannot take it: backup_heater (43%" in text  # no further round: round 1's list
+    text = verdict([shift, heater], later=(["clock_shift"], []))
+    assert "backup_heater" not in text and "possible" not in text
+    text = verdict([shift, heater], later=(["clock_shift"], ["defrost (9%, p = 0.002) — a model with the 'useDefrost' switch"]))
+    assert text.endswith("possible, with clock_shift in the model, this model cannot take it: defrost (9%, p = 0.002) — "
+                         "a model with the 'useDefrost' switch")

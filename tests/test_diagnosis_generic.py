@@ -252,7 +252,9 @@ def test_shipped_brine_water_diagnosis_names_what_the_model_has(tmp_path):
     assert "start_up_inertia" not in result["ranking"]
     text = Path(result["report"]).read_text()
     assert "In the model already (not screened): start_up_inertia" in text
-    possible = [c.name for c in result["candidates"] if c.applicable and c.significant and c.addition is None]
+    by_name = {c.name: c for c in result["candidates"]}
+    possible = [c.name for c in result["candidates"] if c.applicable and c.significant and c.addition is None
+                and not (c.alternative in by_name and (by_name[c.alternative].claimed or by_name[c.alternative].in_model))]
     for name in possible[:3]:  # the three strongest; the rest are counted
         assert name in result["verdict"], (name, result["verdict"])
     if possible:
@@ -427,6 +429,36 @@ def test_an_input_named_ambient_is_the_outdoor_temperature_where_it_moves_as_wea
         assert np.nanmean(kelvin) == pytest.approx(frame["T_out_degC"].mean() + 273.15, abs=1.0)
     else:
         assert "outdoor_temperature" not in ctx.roles, ctx.roles
+
+
+def test_a_zone_thermometer_is_not_read_as_a_water_temperature(tmp_path):
+    """The zone's air temperature plays the ``zone_temperature`` role (guessed from a target's
+    name, or declared): a heat pump's water effects (a pipe's heat loss) are not screened on it.
+    On the blind pythonfmu rooms (sets 4 and 5) a pipe's heat loss, screened on the room's
+    thermometer, was called possible in 5 of the 6 null cases; a thermometer's own lag still
+    applies to it."""
+    from simgap.diagnosis.context import build_context
+    from simgap.diagnosis.run import installed_effects
+
+    path = _workflow(tmp_path, pd.read_csv(DATA))
+    yaml = YAML()
+    doc = yaml.load(path.read_text())
+    doc["optimiser"]["budget"] = {"evaluations": 16}
+    with path.open("w") as fh:
+        yaml.dump(doc, fh)
+    run_dir = calibrate(prepare(path), workers=1)
+    ctx = build_context(run_dir)
+    assert ctx.roles["zone_temperature"] == "sim:T_zone"
+    assert ctx.role_sources["zone_temperature"] == "guessed from the name 'T_zone'"
+    data = ctx.data()
+    assert data.temperature_targets == ["T_zone"] and data.water_temperature_targets == []
+    effects = {e.name: e for e in installed_effects()}
+    assert "zone's air temperature is not one" in effects["heat_loss"].applies(data)
+    assert effects["sensor_lag"].applies(data) is None
+    # declared in the workflow
+    ctx = build_context(run_dir, overrides={"roles": {"zone_temperature": "T_zone"}})
+    assert ctx.role_sources["zone_temperature"] == "declared in diagnose.roles"
+    assert ctx.data().water_temperature_targets == []
 
 
 def test_the_host_holds_no_heat_pump_model_knowledge():

@@ -27,7 +27,7 @@ from ..setup import Prepared, prepare
 from ..units import convert, dimension
 from ..yamlfile import read_yaml
 
-ROLES = ("compressor", "outdoor_temperature", "humidity", "flow", "power", "fan")
+ROLES = ("compressor", "outdoor_temperature", "humidity", "flow", "power", "fan", "zone_temperature")
 
 
 class Budget(BaseModel):
@@ -191,6 +191,7 @@ class Context:
             units=dict(self.units),
             input_units=dict(self.input_units),
             roles=self._roles_in_documented_units(role_series(self.roles, inputs, sim, None if self.operation == "unknown" else self.operation == "on/off")),
+            played_by=dict(self.roles),
             variables=self.prepared.simulator.variables(),
             target_variables={t.name: t.simulated_variables[0] for t in model.targets},
             tuners=tuple(self.prepared.space.names),
@@ -368,6 +369,8 @@ _ROLE_PATTERNS = {
     "flow": r"m_?flow|mflow|flow_?kg|vflow|v_?flow",
     "power": r"pel|p_?el|power|^p_|_w$",
     "fan": r"fan",
+    # a target only: a heat pump model's input named for the room is its plant room's air
+    "zone_temperature": r"zone|room|indoor|t_?zon\b|t_?in_?air",
 }
 
 
@@ -446,7 +449,8 @@ def _stated_unit(variables: dict, declared: dict[str, str], variable: str, colum
     return ""
 
 
-_ROLE_DIMENSIONS = {"outdoor_temperature": ("temperature",), "humidity": ("fraction",), "flow": ("mass flow", "volume flow"), "power": ("power",)}
+_ROLE_DIMENSIONS = {"outdoor_temperature": ("temperature",), "humidity": ("fraction",), "flow": ("mass flow", "volume flow"), "power": ("power",),
+                    "zone_temperature": ("temperature",)}
 """What a role's unit may measure (simgap.units.dimension), whatever the unit's spelling."""
 _ROLE_WORDS = {
     "compressor": r"compressor|heat pump (on|status|signal|speed|modulation)",
@@ -455,6 +459,7 @@ _ROLE_WORDS = {
     "flow": r"mass flow|flow rate|volume flow",
     "power": r"electric(al)? power|power consumption|power draw",
     "fan": r"\bfan\b",
+    "zone_temperature": r"(room|zone|indoor)( air)? temperature",
 }
 
 
@@ -504,28 +509,37 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
             return (kelvin or celsius) and moves
         return kelvin or (celsius and moves)
 
+    def pool_of(role: str) -> list[str]:
+        # the power and the zone's air are simulated targets (the zone's only where it is a
+        # temperature); every other role is an input fed to the model
+        if role == "zone_temperature":
+            return [t for t in targets if ctx.units.get(t) == "K"]
+        return targets if role == "power" else inputs
+
+    def kind_of(role: str) -> str:
+        return "sim" if role in ("power", "zone_temperature") else "input"
+
     for role, pattern in _ROLE_PATTERNS.items():
         if role in roles:
             continue
-        pool = targets if role == "power" else inputs
-        for name in pool:
+        for name in pool_of(role):
             named = re.search(pattern, name, re.I) or (role == "outdoor_temperature" and _names_ambient(name))
             if named and plausible(role, name):
-                roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
+                roles[role] = f"{kind_of(role)}:{name}"
                 sources[role] = f"guessed from the name '{name}'"
                 break
     target_vars = {t.name: t.simulated_variables[0] for t in ctx.prepared.wf.model.targets}
     for role, words in _ROLE_WORDS.items():
         if role in roles:
             continue
-        pool = [(t, target_vars.get(t, t)) for t in targets] if role == "power" else [(n, n) for n in inputs]
+        pool = [(t, target_vars.get(t, t)) if kind_of(role) == "sim" else (t, t) for t in pool_of(role)]
         for name, var_name in pool:
             var = variables.get(var_name)
             text = getattr(var, "description", "") or ""
             unit = getattr(var, "unit", "") or ""
             dimensions = _ROLE_DIMENSIONS.get(role)
             if text and re.search(words, text, re.I) and (dimensions is None or not unit or dimension(unit) in dimensions) and plausible(role, name):
-                roles[role] = f"{'sim' if role == 'power' else 'input'}:{name}"
+                roles[role] = f"{kind_of(role)}:{name}"
                 sources[role] = f"from the model's description of '{var_name}' ({text!r})"
                 break
     if "power" not in roles:

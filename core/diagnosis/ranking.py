@@ -173,7 +173,9 @@ class Candidate:
     confirm: bool = False
     """True when recalibrations confirm claims (a recalibration budget was given)."""
     would_test: str = "a model that can take it"
-    """What would test it where this model cannot take it (a switch, a generic alternative)."""
+    """What would test it where this model cannot take it (a switch the model lacks)."""
+    alternative: str = ""
+    """The generic effect that tests a part of it (:attr:`simgap.Effect.generic_alternative`)."""
     reopened: dict[str, float] = field(default_factory=dict)
     """Targets on which the recalibration with the effect leaves more than ``REOPENS_AT_MOST`` of
     the original gap that re-tuning alone closes (target -> that share): the effect fits one
@@ -398,6 +400,7 @@ class Candidate:
             "at_bounds": self.at_bounds,
             "reopened": self.reopened,
             "would_test": self.would_test,
+            "generic_alternative": self.alternative,
             "twin_of": self.twin_of,
             "reason": self.reason,
             "can_add": self.addition is not None,
@@ -1094,6 +1097,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         reason = effect.applies(data)
         cand = Candidate(effect.name, effect.description, effect.evidence, applicable=reason is None, reason=reason or "")
         cand.would_test = getattr(effect, "would_test", "") or cand.would_test
+        cand.alternative = str(getattr(effect, "generic_alternative", "") or "")
         candidates.append(cand)
         if reason is not None:
             continue

@@ -156,7 +156,37 @@ water-to-water unit's minimum run and off times) and something in 15 of 66 null 
 7, the withheld one in the same 3, and in 1 null case."""
 
 
-def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> str:
+def possible_effects(candidates) -> list[str]:
+    """The verdict's "possible, this model cannot take it", each with what would test it:
+    significant effects this model cannot take, but none whose generic alternative
+    (``Candidate.alternative``) is confirmed or in the model (a pipe's heat loss beside a
+    confirmed extra heat load adds nothing to the verdict); where that alternative was
+    recalibrated and not confirmed, said."""
+    by_name = {c.name: c for c in candidates}
+    out = []
+    for c in candidates:
+        if not (c.applicable and c.significant and c.addition is None and c.confirm):
+            continue
+        alternative = by_name.get(c.alternative)
+        if alternative is not None and (alternative.claimed or alternative.in_model):
+            continue
+        text = f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}"
+        if alternative is not None and alternative.applicable:
+            tried = alternative.gap_shrink is not None
+            text += f"; the generic {alternative.name} tests a part of it" + (" and was not confirmed" if tried else "")
+        out.append(text)
+    return out
+
+
+def last_round_possible(chain: list[dict]) -> tuple[list[str], list[str]] | None:
+    """(the effects in the model, the possible ones) of the last round a further round of the
+    chain screened (:func:`simgap.diagnosis.run.further_effects`); None where none ran."""
+    later = chain[0].get("next_round_possible") if chain else None
+    return (list(later["with"]), list(later["items"])) if later else None
+
+
+def verdict(candidates, control_shrink: float | None = None, gaps: str = "",
+            later: tuple[list[str], list[str]] | None = None) -> str:
     """Confirmed effects with their shrink; then those that shrank the gap beyond re-tuning but
     not beyond chance on this record (``Candidate.undecided``); then those whose recalibration
     only matched re-tuning because a tuner makes the same change (``Candidate.like_retuning``);
@@ -164,7 +194,11 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     whose recalibration did not bear them out (``Candidate.not_confirmed``; the verdict of a
     blind water-to-water cycling case said "no significant unmodelled effect" where cycling had
     explained 42 % of the residual); then significant ones this model cannot take (and what
-    would test them); else nothing found.
+    would test them: :func:`possible_effects`, or ``later``'s (the effects in the model by then,
+    and the last round's list) where a further round screened the model with the claims in it:
+    round 1 screens the residual the claimed effect leaves, and listed a clock shift's likenesses,
+    a sensor lag and a backup heater at 34-61 %, beside it on blind pythonfmu rooms); else nothing
+    found.
     Where nothing is confirmed but re-tuning alone (the control, ``control_shrink``) shrinks the
     validation gap by at least the confirmation threshold, the calibration itself was short of
     its optimum, and the verdict says that first: it is the first thing to fix before any effect
@@ -173,9 +207,7 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
     of rows lost claimed an input gain that fitted the transients after its gaps)."""
     claimed = [c for c in candidates if c.claimed]
     named = {c.name for c in claimed}
-    # a switch effect whose generic counterpart is confirmed adds nothing to the verdict
-    possible = [c for c in candidates if c.applicable and c.significant and c.addition is None and c.confirm
-                and not any(f"generic {n} " in c.would_test + " " for n in named)]
+    possible = later[1] if later is not None else possible_effects(candidates)
     more = len(possible) - 3
     possible = possible[:3]
     alike = [c for c in candidates if c.applicable and c.like_retuning][:2]
@@ -263,9 +295,9 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "") -> 
                      + (": a switching effect's times can fit in a range too narrow for the recalibration's search "
                         "to find (docs/diagnosis.md, Limits)" if any(c.moved_switches for c in unconfirmed) else ""))
     if possible:
-        parts.append("possible, this model cannot take it: " + "; ".join(
-            f"{c.name} ({c.share:.0%}, p = {c.p_value:.2g}) — {c.would_test}" for c in possible)
-            + (f"; and {more} more (part 2)" if more > 0 else ""))
+        with_them = f", with {' and '.join(later[0])} in the model" if later is not None else ""
+        parts.append(f"possible{with_them}, this model cannot take it: " + "; ".join(possible)
+                     + (f"; and {more} more ({'part 2' if later is None else 'the last round'})" if more > 0 else ""))
     return "; ".join(parts)
 
 
@@ -390,7 +422,7 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         "roles": ctx.roles,
         "role_sources": ctx.role_sources,
         "operation": ctx.operation,
-        "verdict": verdict(candidates, control_gap_shrink(shrink), gap_warning(where)),
+        "verdict": verdict(candidates, control_gap_shrink(shrink), gap_warning(where), later=last_round_possible(chain)),
         "claimed": [c.name for c in claimed],
         "where": where,
         "ranking": [c.as_dict() for c in candidates],
@@ -409,7 +441,7 @@ def write(ctx: Context, where: dict, candidates, shrink: list[dict], folder: Pat
         payload["verdict"] = restart["final_verdict"]
         payload["claimed"] = restart["claimed"]
     (folder / "diagnosis.json").write_text(json.dumps(payload, indent=2, default=_default) + "\n")
-    (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs, restart) + _chain_markdown(chain or []))
+    (folder / "report.md").write_text(_markdown(ctx, where, candidates, shrink, figs, restart, chain) + _chain_markdown(chain or []))
     return folder
 
 
@@ -457,7 +489,7 @@ def _default(v):
     return str(v)
 
 
-def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict | None = None) -> str:
+def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict | None = None, chain: list[dict] | None = None) -> str:
     name = ctx.prepared.wf.model.name or ctx.prepared.wf.path.stem
     lines = [f"# Gap diagnosis — {name}", ""]
     lines += [
@@ -468,7 +500,7 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
     ]
     lines += _restart_markdown(restart)
     lines += [
-        f"**Verdict{' for the solution as calibrated' if restart else ''}: {verdict(candidates, control_gap_shrink(shrink), gap_warning(where))}.**",
+        f"**Verdict{' for the solution as calibrated' if restart else ''}: {verdict(candidates, control_gap_shrink(shrink), gap_warning(where), later=last_round_possible(chain))}.**",
         "",
     ]
     claimed = [c for c in candidates if c.claimed]

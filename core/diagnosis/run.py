@@ -12,7 +12,7 @@ from ..errors import PluginError
 from ..plugin_host import get_registry
 from .context import build_context
 from .ranking import AS_SIMULATED_SLOT, MODEST, REOPENS_AT_MOST, WITHIN_NOISE_SHRINK, Candidate, rank_effects, tuner_sensitivities, unexplained_targets
-from .report import caveats, control_gap_shrink, noise_gaps, verdict, write
+from .report import caveats, control_gap_shrink, last_round_possible, noise_gaps, possible_effects, verdict, write
 from ..interfaces import EffectAddition
 from .polish import polished_comparison
 from .shrink import (CONTROL, RESIDUALS, RESIDUALS_TRAINING, against_control, bounds_reached, control_picked_for, gap_shrink,
@@ -694,7 +694,12 @@ def further_effects(ctx, candidates: list[Candidate], shrink: list[dict], folder
     # the confirmation there is (blind case 4801, set 46: an air start-up lag confirmed 77 % on top
     # of a heat loss, then 76 % beyond re-tuning of round 2's remainder, p = 1e-6, withdrawn)
     within = {c.name for c in further.get("candidates") or [] if c.within_noise_only}
+    # what the verdict calls possible is the last round's: the residual left with the claims in
+    # the model (report.verdict's ``later``)
+    possible = further.get("possible") or {"with": [], "items": []}
+    later = {"with": [link["effect"] for link in chain] + list(possible["with"]), "items": list(possible["items"])}
     for link in chain:
+        link["next_round_possible"] = later
         link["next_round_claimed"] = sorted(set(further.get("claimed") or []) | {l["effect"] for l in further["chain"]})
         if within:
             link["next_round_within_noise"] = sorted(within)
@@ -945,7 +950,9 @@ def diagnose(
     elif not chain and not any(c.claimed for c in candidates) and unconverged(ctx, control):
         restart, again = restart_from_control(control, folder, ctx.config, say)
     t3 = time.perf_counter()
-    said = verdict(candidates, control_gap_shrink(shrink), gap_warning(where))
+    later = last_round_possible(chain)
+    possible = {"with": later[0], "items": later[1]} if later else {"with": [], "items": possible_effects(candidates)}
+    said = verdict(candidates, control_gap_shrink(shrink), gap_warning(where), later=later)
     if again is not None:
         said = f"{restart['why']}; diagnosed from the re-tuned solution: {again['verdict']}"
         # what re-tuning took up stays said (a heat loss a capacity scale makes up for)
@@ -972,6 +979,7 @@ def diagnose(
         "where": where,
         "timing": timing,
         "restart": restart,
+        "possible": possible,
     }
     if again is None:
         return mine

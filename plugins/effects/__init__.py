@@ -40,18 +40,23 @@ class _SwitchEffect(simgap.Effect):
         missing = [r for r in self.needs if data.role(r) is None]
         if missing:
             return f"needs {', '.join(missing)} (no series plays that role)"
+        if self.needs_temperature == "water" and not data.water_temperature_targets:
+            return "needs a water-temperature target (unit K; the zone's air temperature is not one)"
         if self.needs_temperature and not data.temperature_targets:
-            return "needs a water-temperature target (unit K)"
+            return "needs a temperature target (unit K)"
         return None
 
-    needs_temperature = False
+    needs_temperature: str = ""
+    """'any': a thermometer's effect; 'water': heated water's (not the zone's air)."""
+
+    @property
+    def generic_alternative(self) -> str:
+        return {"sensor_lag": "sensor_time_constant", "cycling": "on_off_delay", "heat_loss": "extra_heat_load",
+                "start_up_lag": "on_off_delay", "start_up_inertia": "on_off_delay", "post_run": "on_off_delay"}.get(self.name, "")
 
     @property
     def would_test(self) -> str:
-        alternative = {"sensor_lag": "sensor_time_constant", "cycling": "on_off_delay", "heat_loss": "extra_heat_load",
-                       "start_up_lag": "on_off_delay", "start_up_inertia": "on_off_delay", "post_run": "on_off_delay"}.get(self.name)
-        text = f"a model with the '{self.switch}' switch and its parameters would test it"
-        return text + (f"; the generic {alternative} tests a part of it" if alternative else "")
+        return f"a model with the '{self.switch}' switch and its parameters would test it"
 
     def addition(self, data):
         if self.switch not in data.variables:
@@ -121,6 +126,10 @@ def _temperatures(self, data):
     return data.temperature_targets
 
 
+def _water_temperatures(self, data):
+    return data.water_temperature_targets
+
+
 class SensorLag(_SwitchEffect):
     name = "sensor_lag"
     description = "the temperature sensor reads through a first-order lag (sensor mass, immersion sleeve)"
@@ -131,7 +140,7 @@ class SensorLag(_SwitchEffect):
     same_as = "sensor_time_constant"
     tuners = (P("tauSensor", 60.0, 5.0, 3600.0, "s", "log"),)
     needs = ()
-    needs_temperature = True
+    needs_temperature = "any"
     acts_on = _temperatures
 
     def signature(self, data):
@@ -167,13 +176,13 @@ class HeatLoss(_SwitchEffect):
         P("UALossGen", 150.0, 0.0, 800.0, "W/K"),
     )
     needs = ()
-    needs_temperature = True
-    acts_on = _temperatures
+    needs_temperature = "water"
+    acts_on = _water_temperatures
 
     def signature(self, data):
         out = {}
         flow = data.role("flow")
-        for target in data.temperature_targets:
+        for target in data.water_temperature_targets:
             values = np.asarray(data.simulated[target], dtype=float)
             out[f"{target} above its mean"] = values - np.nanmean(values)
             if flow is not None:
@@ -199,7 +208,7 @@ class Cycling(_SwitchEffect):
         on = _running(data)
         level = np.asarray(data.role("compressor"), dtype=float)
         out = {"running at part load": on * (1.0 - np.clip(level, 0.0, 1.0))}
-        for target in data.temperature_targets:
+        for target in data.water_temperature_targets:
             values = np.asarray(data.simulated[target], dtype=float)
             out[f"running with hot water ({target})"] = on * np.clip(values - np.nanpercentile(values, 75), 0.0, None)
         since_on = data.since_change(on, rising=True)
@@ -251,7 +260,7 @@ def _switch_events(data, view) -> dict[str, list[float]] | None:
     dt = data.sample_interval
     hold = max(2, int(math.ceil(60.0 / dt)))  # a minute: the command's own switch is not a hold
     segment = np.asarray(data.segment)
-    temperatures = view.temperature_targets
+    temperatures = view.water_temperature_targets
     water = np.asarray(view.simulated[temperatures[0]], dtype=float) if temperatures else None
     watts = np.asarray(power, dtype=float)
     # a thermostat's stop is off, not a modulating unit's low-power dip below the running
