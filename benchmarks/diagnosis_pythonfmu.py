@@ -184,6 +184,21 @@ CASES = [
     Case("null, twice the noise, 5 % of the rows lost", None, 83, noise=2.0, lost_share=0.05),
     Case("null, the capacity at C's upper bound (1e8 J/K)", None, 84, truth={"C": 1.0e8}),
     Case("people's gains logged 20 % high", "input_gain_error", 85, input_gain={"people": 1.2}),
+    # Session 75's set (set 6), fixed and committed after the zone's role (a pipe's heat loss is
+    # no longer screened on the room's thermometer) and the verdict's possible effects from the
+    # last round (4056956), before any of it ran:
+    Case("logger clock 35 min late", "clock_shift", 86, shift_s=2100.0),
+    Case("logger clock 15 min early", "clock_shift", 87, shift_s=-900.0),
+    Case("room thermometer time constant 20 min, 1.5x noise", "sensor_time_constant", 88, lag_s={"room": 1200.0}, noise=1.5),
+    Case("power meter time constant 10 min, 10 % of the rows lost", "sensor_time_constant", 89, lag_s={"power": 600.0}, lost_share=0.10),
+    Case("room thermometer +1.0 K", "sensor_offset_gain", 90, offset={"room": 1.0}),
+    Case("power meter reads 10 % high", "sensor_offset_gain", 91, gain={"power": 1.10}),
+    Case("a 500-W gain the log does not hold", "extra_heat_load", 92, unlogged_gain_w=500.0),
+    Case("people's gains logged 50 % low", "input_gain_error", 93, input_gain={"people": 0.5}),
+    Case("null", None, 94),
+    Case("null, 1.5x noise", None, 95, noise=1.5),
+    Case("null, the envelope at UA's upper bound (400 W/K)", None, 96, truth={"UA": 400.0}),
+    Case("null, 10 % of the rows lost", None, 97, lost_share=0.10),
 ]
 
 
