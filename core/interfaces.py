@@ -343,6 +343,11 @@ class DiagnosisData:
     played_by: Mapping[str, str] = field(default_factory=dict)
     """Role -> the series playing it: ``'input:NAME'``, ``'sim:TARGET'`` or ``'derived:...'``
     (a compressor's running state derived from the simulated power)."""
+    operation: str = "unknown"
+    """How the measured record runs: ``'on/off'`` where a measured signal (the compressor input
+    or the power) has two states, ``'modulating'`` where none has (the unit never starts or
+    stops), ``'unknown'`` without a compressor or power series. Effects of starts and stops
+    have no evidence in a modulating record."""
     lags: Mapping[str, float] = field(default_factory=dict)
     """Per target, the delay (s) of the simulation that best matches the measured changes in the
     training data (part 1 of the diagnosis; positive: the measurement is late). A fact about the

@@ -305,6 +305,11 @@ def test_modulating_unit_has_no_cycles_and_tables_agree(tmp_path):
     text = Path(result["report"]).read_text()
     assert "The unit modulates" in text and "starts measured" not in text
     assert "cycling" not in result["claimed"]
+    # effects of starts and stops have no evidence here: not tested, and said why
+    for name in ("cycling", "start_up_lag", "post_run"):
+        effect = next(c for c in result["candidates"] if c.name == name)
+        assert not effect.applicable and "never stops" in effect.reason, (name, effect.reason)
+        assert name not in result["ranking"]
 
 
 def test_commanded_speed_that_never_stops_but_a_measured_power_that_does_is_on_off(tmp_path):

@@ -192,6 +192,7 @@ class Context:
             input_units=dict(self.input_units),
             roles=self._roles_in_documented_units(role_series(self.roles, inputs, sim, None if self.operation == "unknown" else self.operation == "on/off")),
             played_by=dict(self.roles),
+            operation=self.operation,
             variables=self.prepared.simulator.variables(),
             target_variables={t.name: t.simulated_variables[0] for t in model.targets},
             tuners=tuple(self.prepared.space.names),

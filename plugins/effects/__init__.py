@@ -40,6 +40,10 @@ class _SwitchEffect(simgap.Effect):
         missing = [r for r in self.needs if data.role(r) is None]
         if missing:
             return f"needs {', '.join(missing)} (no series plays that role)"
+        if self.needs_starts and data.operation == "modulating":
+            # a record that never starts or stops holds no evidence of what happens at a start
+            # or a stop (the pythonfmu room's modulating power ranked them at 0 %, p = 1)
+            return "needs starts and stops (the record's unit modulates and never stops)"
         if self.needs_temperature == "water" and not data.water_temperature_targets:
             return "needs a water-temperature target (unit K; the zone's air temperature is not one)"
         if self.needs_temperature and not data.temperature_targets:
@@ -48,6 +52,8 @@ class _SwitchEffect(simgap.Effect):
 
     needs_temperature: str = ""
     """'any': a thermometer's effect; 'water': heated water's (not the zone's air)."""
+    needs_starts = False
+    """An effect of the compressor's starts or stops (not tested on a modulating record)."""
 
     @property
     def generic_alternative(self) -> str:
@@ -87,6 +93,7 @@ class StartUpLag(_SwitchEffect):
     description = "refrigerant-circuit inertia: after each compressor start the heat output rises with a time constant instead of at once"
     evidence = "residual concentrated in the first minutes after compressor starts (temperature lower, while power is already there)"
     switch = "useStartUpLag"
+    needs_starts = True
     tuners = (P("tauStartUp", 90.0, 10.0, 900.0, "s", "log"),)
 
     def signature(self, data):
@@ -113,6 +120,7 @@ class PostRun(_SwitchEffect):
     description = "the loading/charging pump runs on for a while after each compressor stop"
     evidence = "after each compressor stop, power stays at pump level and temperatures keep mixing for a fixed time"
     switch = "usePostRun"
+    needs_starts = True
     tuners = (P("tPostRun", 180.0, 30.0, 3600.0, "s", "log"),)
 
     def signature(self, data):
@@ -196,6 +204,7 @@ class Cycling(_SwitchEffect):
     description = "on/off cycling with minimum run and off times (a thermostat or anti-short-cycle control the model lacks)"
     evidence = "measured on/off periods differ from simulated ones: more or fewer, regular cycles at low load or high water temperature"
     switch = "useCycling"
+    needs_starts = True
     tuners = (
         P("TCycOff", 318.15, 303.15, 328.15, "K"),
         P("dTCycHys", 5.0, 1.0, 10.0, "K"),
