@@ -57,8 +57,11 @@ class _SwitchEffect(simgap.Effect):
 
     @property
     def generic_alternative(self) -> str:
+        # a backup heater is heat the model lacks below an outdoor temperature: the generic
+        # load in proportion to the outdoor temperature tests a part of it
         return {"sensor_lag": "sensor_time_constant", "cycling": "on_off_delay", "heat_loss": "extra_heat_load",
-                "start_up_lag": "on_off_delay", "start_up_inertia": "on_off_delay", "post_run": "on_off_delay"}.get(self.name, "")
+                "start_up_lag": "on_off_delay", "start_up_inertia": "on_off_delay", "post_run": "on_off_delay",
+                "backup_heater": "extra_heat_load"}.get(self.name, "")
 
     @property
     def would_test(self) -> str:
