@@ -187,13 +187,18 @@ def main(argv=None) -> None:
     k, n = map(int, args.shard.split("/"))
     clean = clean_week(args.out.parent / "bungalow_clean.parquet")
     results = []
-    for i, case in enumerate(CASES):
-        if i % n != k - 1 or (args.seeds and str(case.seed) not in args.seeds.split(",")):
+    # the shard splits the cases asked for (two seeds over two processes: one each)
+    asked = [c for c in CASES if not args.seeds or str(c.seed) in args.seeds.split(",")]
+    for i, case in enumerate(asked):
+        if i % n != k - 1:
             continue
         print(f"{case.label} (seed {case.seed}) ...", flush=True)
         results.append(run_case(case, clean, args.out / f"seed{case.seed}", args.workers, args.workflow))
         print(json.dumps(results[-1], default=str), flush=True)
         (args.out / "results.json").write_text(json.dumps(results, indent=1, default=str))
+    if not results:
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "results.json").write_text("[]")
     table([args.out / "results.json"])
 
 
