@@ -314,7 +314,8 @@ class DiagnosisData:
     0..1, ``"flow"``: heating-circuit mass flow, ``"power"``: electric power, ``"fan"``: the
     outdoor-coil fan speed 0..1 as logged, ``"zone_temperature"``: the simulated air temperature
     of the heated room, in K): see :meth:`role`, and :attr:`played_by` for which series plays
-    each. Measured targets are deliberately not here: a signature built from them would explain any residual of that target.
+    each. Measured targets are deliberately not here: a signature built from them would explain
+    any residual of that target.
     """
 
     time: np.ndarray

@@ -56,14 +56,6 @@ class _SwitchEffect(simgap.Effect):
     """An effect of the compressor's starts or stops (not tested on a modulating record)."""
 
     @property
-    def generic_alternative(self) -> str:
-        # a backup heater is heat the model lacks below an outdoor temperature: the generic
-        # load in proportion to the outdoor temperature tests a part of it
-        return {"sensor_lag": "sensor_time_constant", "cycling": "on_off_delay", "heat_loss": "extra_heat_load",
-                "start_up_lag": "on_off_delay", "start_up_inertia": "on_off_delay", "post_run": "on_off_delay",
-                "backup_heater": "extra_heat_load"}.get(self.name, "")
-
-    @property
     def would_test(self) -> str:
         return f"a model with the '{self.switch}' switch and its parameters would test it"
 
@@ -96,6 +88,7 @@ class StartUpLag(_SwitchEffect):
     description = "refrigerant-circuit inertia: after each compressor start the heat output rises with a time constant instead of at once"
     evidence = "residual concentrated in the first minutes after compressor starts (temperature lower, while power is already there)"
     switch = "useStartUpLag"
+    generic_alternative = "on_off_delay"
     needs_starts = True
     tuners = (P("tauStartUp", 90.0, 10.0, 900.0, "s", "log"),)
 
@@ -123,6 +116,7 @@ class PostRun(_SwitchEffect):
     description = "the loading/charging pump runs on for a while after each compressor stop"
     evidence = "after each compressor stop, power stays at pump level and temperatures keep mixing for a fixed time"
     switch = "usePostRun"
+    generic_alternative = "on_off_delay"
     needs_starts = True
     tuners = (P("tPostRun", 180.0, 30.0, 3600.0, "s", "log"),)
 
@@ -146,6 +140,7 @@ class SensorLag(_SwitchEffect):
     description = "the temperature sensor reads through a first-order lag (sensor mass, immersion sleeve)"
     evidence = "residual follows the time derivative of the temperature: every rise and fall is measured late"
     switch = "useSensorLag"
+    generic_alternative = "sensor_time_constant"
     # the model's lag on the thermometer's reading, which the generic lag around the simulator
     # applies to the same output: one of the two is recalibrated, this one
     same_as = "sensor_time_constant"
@@ -181,6 +176,7 @@ class HeatLoss(_SwitchEffect):
     description = "heat lost from the condenser and pipes to the plant room"
     evidence = "water temperature lower than simulated in proportion to its excess over the room, most when the water stands still"
     switch = "useHeatLoss"
+    generic_alternative = "extra_heat_load"
     tuners = (
         P("UALossCon", 10.0, 0.0, 60.0, "W/K"),
         P("UALossPipe", 4.0, 0.0, 30.0, "W/K"),
@@ -207,6 +203,7 @@ class Cycling(_SwitchEffect):
     description = "on/off cycling with minimum run and off times (a thermostat or anti-short-cycle control the model lacks)"
     evidence = "measured on/off periods differ from simulated ones: more or fewer, regular cycles at low load or high water temperature"
     switch = "useCycling"
+    generic_alternative = "on_off_delay"
     needs_starts = True
     tuners = (
         P("TCycOff", 318.15, 303.15, 328.15, "K"),
@@ -369,6 +366,9 @@ class BackupHeater(_SwitchEffect):
     description = "an electric backup heater that switches on below an outdoor-temperature threshold"
     evidence = "electric power higher by a constant block (and water warmer) only below a threshold outdoor temperature"
     switch = "useBackupHeater"
+    # heat the model lacks below an outdoor temperature: the generic load in proportion to
+    # the outdoor temperature tests a part of it
+    generic_alternative = "extra_heat_load"
     tuners = (
         P("TOdaBackup", 271.15, 258.15, 278.15, "K"),
         P("PBackup", 3000.0, 500.0, 20000.0, "W", "log"),
