@@ -199,6 +199,21 @@ CASES = [
     Case("null, 1.5x noise", None, 95, noise=1.5),
     Case("null, the envelope at UA's upper bound (400 W/K)", None, 96, truth={"UA": 400.0}),
     Case("null, 10 % of the rows lost", None, 97, lost_share=0.10),
+    # Session 75's second set (set 7), fixed and committed after set 6's table, the starts and
+    # stops of a modulating record (1cce8b3) and the generic alternatives as class attributes
+    # (a958af2), before any of it ran:
+    Case("logger clock 50 min late", "clock_shift", 98, shift_s=3000.0),
+    Case("logger clock 8 min early", "clock_shift", 99, shift_s=-480.0),
+    Case("room thermometer time constant 35 min", "sensor_time_constant", 100, lag_s={"room": 2100.0}),
+    Case("power meter time constant 45 min", "sensor_time_constant", 101, lag_s={"power": 2700.0}),
+    Case("room thermometer -0.8 K", "sensor_offset_gain", 102, offset={"room": -0.8}),
+    Case("power meter reads 20 % high", "sensor_offset_gain", 103, gain={"power": 1.20}),
+    Case("a 200-W loss the log does not hold", "extra_heat_load", 104, unlogged_gain_w=-200.0),
+    Case("people's gains logged 40 % high", "input_gain_error", 105, input_gain={"people": 1.4}),
+    Case("null, 2.5x noise", None, 106, noise=2.5),
+    Case("null, the solar aperture at gA's upper bound (15 m2)", None, 107, truth={"gA": 15.0}),
+    Case("null, the heat pump below P_nom's lower bound (550 W)", None, 108, truth={"P_nom": 550.0}),
+    Case("null, 15 % of the rows lost", None, 109, lost_share=0.15),
 ]
 
 
