@@ -349,6 +349,9 @@ class DiagnosisData:
     or the power) has two states, ``'modulating'`` where none has (the unit never starts or
     stops), ``'unknown'`` without a compressor or power series. Effects of starts and stops
     have no evidence in a modulating record."""
+    air_temperature_targets: tuple[str, ...] = ()
+    """Temperature targets that read air (the zone's, an air handler's supply or return air),
+    by their names or the model's descriptions: not heated water."""
     lags: Mapping[str, float] = field(default_factory=dict)
     """Per target, the delay (s) of the simulation that best matches the measured changes in the
     training data (part 1 of the diagnosis; positive: the measurement is late). A fact about the
@@ -378,13 +381,14 @@ class DiagnosisData:
 
     @property
     def water_temperature_targets(self) -> list[str]:
-        """The temperature targets but the zone's air (the ``zone_temperature`` role): what a
+        """The temperature targets but those of air (the ``zone_temperature`` role and
+        :attr:`air_temperature_targets`): what a
         heat pump's condenser, pipes and controller heat. A room's thermometer read as a water
         temperature made a pipe's heat loss "possible" in 5 of the 6 null cases of two blind
         sets on a pythonfmu room (its signature, the temperature's excess over its mean, fits
         any slow misfit of a room)."""
         zone = self.played_by.get("zone_temperature", "")
-        return [t for t in self.temperature_targets if f"sim:{t}" != zone]
+        return [t for t in self.temperature_targets if f"sim:{t}" != zone and t not in self.air_temperature_targets]
 
     @staticmethod
     def running_from_power(power: np.ndarray) -> np.ndarray | None:

@@ -458,7 +458,7 @@ def test_a_zone_thermometer_is_not_read_as_a_water_temperature(tmp_path):
     data = ctx.data()
     assert data.temperature_targets == ["T_zone"] and data.water_temperature_targets == []
     effects = {e.name: e for e in installed_effects()}
-    assert "zone's air temperature is not one" in effects["heat_loss"].applies(data)
+    assert "an air temperature, the zone's or an air handler's, is not one" in effects["heat_loss"].applies(data)
     assert effects["sensor_lag"].applies(data) is None
     # declared in the workflow
     ctx = build_context(run_dir, overrides={"roles": {"zone_temperature": "T_zone"}})

@@ -195,3 +195,39 @@ def test_a_meters_error_is_not_screened_as_moving_the_units_switching(tmp_path):
     assert found["operation"] == "on/off"
     meter = next(c for c in found["ranking"] if c["name"] == "sensor_offset_gain")
     assert meter["applicable"] and not meter["envelope"], meter["envelope"]
+
+
+def test_an_air_handlers_names_and_units_give_its_roles_and_its_supply_air_is_no_water(tmp_path):
+    """The blind bench's pythonfmu air handler (benchmarks/diagnosis_ahu.py), a null case: no
+    units or descriptions in the FMU, the engineer's units on the data. Its outside air 'T_oa'
+    plays the outdoor temperature, its air flow in kg/s the flow; its supply air 'T_sa' is an air
+    temperature, so a heat pump's pipe heat loss is not tested on it, nor, with no power or water
+    target, a heat pump's backup heater (both were listed as possible beside a confirmed
+    thermometer lag)."""
+    from simgap.calibrate import calibrate
+    from simgap.diagnosis.context import _AIR_WORDS, _words, build_context
+    from simgap.plugins.effects import BackupHeater, HeatLoss
+    from simgap.setup import prepare
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import diagnosis_ahu as bench
+
+    case = next(c for c in bench.CASES if c.seed == 17)  # a plain null case
+    path = bench.write_case(case, bench.build_fmu(tmp_path / "fmu"), tmp_path / "case")
+    path.write_text(path.read_text().replace("evaluations: 1600", "evaluations: 40"))
+    ctx = build_context(calibrate(prepare(path), workers=1))
+    assert ctx.roles["outdoor_temperature"] == "input:T_oa"
+    assert ctx.roles["flow"] == "input:m_air" and "kg/s" in ctx.role_sources["flow"]
+    assert ctx.air_targets == ("T_sa",)
+    data = ctx.data()
+    assert data.temperature_targets == ["T_sa"] and data.water_temperature_targets == []
+    assert "water-temperature target" in HeatLoss().applies(data)
+    assert "electric power or a water-temperature target" in BackupHeater().applies(data)
+    # the heat pump models' water thermometers stay water; an air handler's air is air
+    for water in ("THCFlow_K", "TSup_K", "TConOut_K", "TEvaOut_K", "T_Water_supply_degC", "TZone_K"):
+        assert not _words(water) & _AIR_WORDS, water
+    for air in ("T_sa", "SAT", "supply_air_C", "T_ma", "T_ra"):
+        assert _words(air) & _AIR_WORDS, air
+    # an outside-air flow is no outdoor temperature, whatever its name
+    path.write_text(path.read_text().replace("T_oa: {from: oat_C, unit: degC}", "T_oa: {from: oat_C, unit: kg/s}"))
+    assert "outdoor_temperature" not in build_context(calibrate(prepare(path), workers=1)).roles

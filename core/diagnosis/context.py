@@ -140,6 +140,8 @@ class Context:
     """Role -> where it was taken from (declared, a name, a unit, a description)."""
     operation: str = "unknown"
     """'on/off', 'modulating' (never off) or 'unknown' (no power or compressor series)."""
+    air_targets: tuple[str, ...] = ()
+    """Temperature targets that read air, not water (:func:`air_temperature_targets`)."""
     found_before: dict[str, dict[str, float]] = field(default_factory=dict)
     """Effect -> its parameters where an earlier round's recalibration of it ended (a further
     round of :func:`simgap.diagnosis.run.further_effects`): a second start for its search."""
@@ -193,6 +195,7 @@ class Context:
             roles=self._roles_in_documented_units(role_series(self.roles, inputs, sim, None if self.operation == "unknown" else self.operation == "on/off")),
             played_by=dict(self.roles),
             operation=self.operation,
+            air_temperature_targets=tuple(self.air_targets),
             variables=self.prepared.simulator.variables(),
             target_variables={t.name: t.simulated_variables[0] for t in model.targets},
             tuners=tuple(self.prepared.space.names),
@@ -356,6 +359,7 @@ def build_context(run_dir, *, solution=None, workflow=None, overrides: dict | No
     ctx.units = guess_units(ctx)
     ctx.input_units = guess_input_units(ctx)
     ctx.roles, ctx.role_sources = guess_roles(ctx)
+    ctx.air_targets = air_temperature_targets(ctx)
     ctx.operation = operation(ctx)
     return ctx
 
@@ -376,6 +380,11 @@ _ROLE_PATTERNS = {
 
 
 _AMBIENT_WORDS = {"amb", "ambient", "tamb", "tambient"}
+_OUTSIDE_AIR_WORDS = {"oa", "oat", "toa"}
+"""An air handler's outside air ('T_oa', 'OAT'): the outdoor temperature where it is a temperature."""
+_AIR_WORDS = {"air", "sa", "sat", "ra", "rat", "ma", "mat", "da", "dat", "lat", "eat"} | _OUTSIDE_AIR_WORDS
+"""Words of a thermometer that reads air: supply, return, mixed, discharge, leaving or entering
+air ('T_sa', 'SAT', 'supply_air')."""
 
 
 def _words(name: str) -> set[str]:
@@ -490,15 +499,17 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
         variables = ctx.prepared.simulator.variables()
     except Exception:  # a simulator that cannot list its variables has no descriptions to offer
         variables = {}
+    declared = declared_units(ctx.prepared.wf)
+    fed = dict(ctx.prepared.wf.model.simulator.inputs)
 
     def plausible(role: str, name: str) -> bool:
         """An outdoor temperature looks like one (a humidity named '...Oda' does not): a
         temperature unit where the model states one, values in K or spread like degC."""
         if role != "outdoor_temperature" or name not in joined_inputs:
             return True
-        unit = getattr(variables.get(name), "unit", "") or ""
-        if unit and unit not in ("K", "degC", "°C"):
-            return False
+        unit = _stated_unit(variables, declared, name, fed.get(name, name))
+        if unit and dimension(unit) != "temperature":
+            return False  # an outside air flow in kg/s is no outdoor temperature
         values = np.asarray(joined_inputs[name], dtype=float)
         mean = float(np.nanmean(values))
         spread = float(np.nanmax(values) - np.nanmin(values)) if np.isfinite(values).any() else 0.0
@@ -524,7 +535,7 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
         if role in roles:
             continue
         for name in pool_of(role):
-            named = re.search(pattern, name, re.I) or (role == "outdoor_temperature" and _names_ambient(name))
+            named = re.search(pattern, name, re.I) or (role == "outdoor_temperature" and (_names_ambient(name) or _words(name) & _OUTSIDE_AIR_WORDS))
             if named and plausible(role, name):
                 roles[role] = f"{kind_of(role)}:{name}"
                 sources[role] = f"guessed from the name '{name}'"
@@ -550,11 +561,40 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
                 roles["power"] = f"sim:{t}"
                 sources["power"] = f"from the unit {var.unit} of '{t}' and its name"
                 break
+    if "flow" not in roles:
+        # an input whose stated unit is a flow (an air handler's 'm_air' in kg/s): what the names
+        # and descriptions did not say, the unit the model or the workflow states does
+        for name in inputs:
+            unit = _stated_unit(variables, declared, name, fed.get(name, name))
+            if dimension(unit) in _ROLE_DIMENSIONS["flow"]:
+                roles["flow"] = f"input:{name}"
+                sources["flow"] = f"from the unit {unit} of '{name}'"
+                break
     if "compressor" not in roles and "power" in roles:
         # no compressor signal among the inputs: the simulated power tells when it runs
         roles["compressor"] = f"derived:{roles['power']}"
         sources["compressor"] = f"derived from the simulated power ({roles['power'][4:]})"
     return roles, sources
+
+
+def air_temperature_targets(ctx: Context) -> tuple[str, ...]:
+    """Temperature targets that read air: named with an air handler's words (supply, return,
+    mixed, discharge air: 'T_sa', 'SAT', 'supply_air'), or described as an air temperature by the
+    model, besides the zone's (``zone_temperature``). A heat pump's water effects (a pipe's heat
+    loss, the hot water's stop temperatures) do not act on them: on a pythonfmu air handler's
+    supply air, the condenser's heat loss was listed as possible beside a confirmed sensor lag."""
+    variables = _model_variables(ctx)
+    zone = ctx.roles.get("zone_temperature", "")
+    out = []
+    for target in ctx.prepared.wf.model.targets:
+        if ctx.units.get(target.name) != "K":
+            continue
+        variable = target.simulated_variables[0]
+        text = getattr(variables.get(variable), "description", "") or ""
+        named = (_words(target.name) | _words(variable)) & _AIR_WORDS
+        if named or re.search(r"\bair\b", text, re.I) or zone == f"sim:{target.name}":
+            out.append(target.name)
+    return tuple(out)
 
 
 def role_series(roles: dict[str, str], inputs: dict, simulated: dict, on_off: bool | None = None) -> dict[str, np.ndarray]:

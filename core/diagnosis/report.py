@@ -525,6 +525,11 @@ def _markdown(ctx: Context, where: dict, candidates, shrink, figs, restart: dict
         lines += ["", ("No roles recognised" if not ctx.roles else "No series plays the role of") + ": " + ", ".join(missing)
                   + " (neither declared under diagnose.roles nor recognised from names, units or the model's descriptions); "
                   "effects that need them are listed as not tested in part 2."]
+    zone = ctx.roles.get("zone_temperature", "")
+    air = [t for t in ctx.air_targets if f"sim:{t}" != zone]
+    if air:
+        lines += ["", "Read as air temperatures, not heated water (by their names or the model's descriptions): "
+                  + ", ".join(air) + "."]
     lines += ["", f"Operation: {ctx.operation}" + (" (starts and stops counted)" if ctx.operation == "on/off" else
               " (never off: no starts or stops counted)" if ctx.operation == "modulating" else " (no power or compressor series)") + ".", ""]
     # part 1

@@ -45,7 +45,7 @@ class _SwitchEffect(simgap.Effect):
             # or a stop (the pythonfmu room's modulating power ranked them at 0 %, p = 1)
             return "needs starts and stops (the record's unit modulates and never stops)"
         if self.needs_temperature == "water" and not data.water_temperature_targets:
-            return "needs a water-temperature target (unit K; the zone's air temperature is not one)"
+            return "needs a water-temperature target (unit K; an air temperature, the zone's or an air handler's, is not one)"
         if self.needs_temperature and not data.temperature_targets:
             return "needs a temperature target (unit K)"
         return None
@@ -374,6 +374,14 @@ class BackupHeater(_SwitchEffect):
         P("PBackup", 3000.0, 500.0, 20000.0, "W", "log"),
     )
     needs = ("outdoor_temperature",)
+
+    def applies(self, data):
+        why = super().applies(data)
+        if why is None and data.role("power") is None and not data.water_temperature_targets:
+            # what it changes, by its evidence: a heat pump's electric power, its water's heat;
+            # on an air handler's supply air alone "colder weather" is all its signature says
+            return "needs an electric power or a water-temperature target (what a backup heater changes)"
+        return why
 
     def signature(self, data):
         t_out = np.asarray(data.role("outdoor_temperature"), dtype=float) - 273.15
