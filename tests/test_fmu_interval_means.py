@@ -74,3 +74,28 @@ def test_fmu_inputs_as_interval_means_are_held(tmp_path, fmi_type, mode):
     for name in ("P_el", "T_zone"):
         np.testing.assert_allclose(held[name][inside], explicit[name][inside], rtol=tolerance, atol=1e-6)
     assert np.abs(held["P_el"] - interpolated["P_el"]).max() > 100.0
+
+
+@pytest.mark.parametrize("fmi_type", ["CoSimulation", "ModelExchange"])
+def test_outputs_as_per_output_reads_a_meter_as_means_and_a_thermometer_as_samples(tmp_path, fmi_type):
+    """A building management system samples its thermometers and logs its meters as interval
+    means: ``outputs_as: {P_el: mean_starting}`` gives the power's means, the zone temperature
+    at the instant, each as the one-mode setting gives it; an output the model lacks is named."""
+    context = simgap.PluginContext(base_dir=REPO, cache_dir=tmp_path, source="workflow.yaml")
+    source = str(REPO / "examples" / "models" / "quickstart_zone")
+    fine_t = np.arange(0.0, 6 * 3600.0 + 1, 60.0)
+    inputs = {"T_out": np.full(len(fine_t), 275.0), "u_hp": np.where((fine_t // 1800) % 2 == 0, 0.8, 0.0)}
+    coarse_t = fine_t[::10]
+    extra = {"solver": "Euler"} if fmi_type == "ModelExchange" else {}
+
+    def run(outputs_as):
+        sim = FMUSimulator(FMUSimulator.Options(source=source, step_size=60.0, fmi_type=fmi_type, outputs_as=outputs_as, **extra), context)
+        case = simgap.SimulationCase(f"{outputs_as}", pd.Timestamp("2025-01-01"), 0.0, fine_t[-1], fine_t, inputs, coarse_t, ("P_el", "T_zone"))
+        return sim.simulate(TRUTH, case)
+
+    mixed, means, samples = run({"P_el": "mean_starting"}), run("mean_starting"), run("instant")
+    np.testing.assert_allclose(mixed["P_el"], means["P_el"], rtol=1e-12)
+    np.testing.assert_allclose(mixed["T_zone"], samples["T_zone"], rtol=1e-12)
+    assert np.abs(mixed["P_el"] - samples["P_el"]).max() > 100.0
+    with pytest.raises(simgap.ModelError, match=r"workflow.yaml: simulator.options.outputs_as.P_meter: .* has no variable 'P_meter'"):
+        FMUSimulator(FMUSimulator.Options(source=source, outputs_as={"P_meter": "mean_starting"}), context)

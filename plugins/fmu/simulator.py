@@ -55,11 +55,17 @@ class FMUOptions(simgap.PluginOptions):
     mean over the sample interval that ends there or starts there, held over that interval. A
     logger's hourly means interpolated as instants would move a set-back step or the day's
     solar gains by half an hour."""
-    outputs_as: Literal["instant", "mean_ending", "mean_starting"] = "instant"
+    outputs_as: Literal["instant", "mean_ending", "mean_starting"] | dict[str, Literal["instant", "mean_ending", "mean_starting"]] = "instant"
     """What an output at a measured time stamp is: the model's value at that instant, or its
     mean over the sample interval that ends there (meters) or starts there (loggers that stamp
     the start). Means are taken over the communication steps: set ``step_size`` below the
-    sample interval for them to mean something."""
+    sample interval for them to mean something. One mode for every output, or per output
+    (``{Q_hw: mean_starting}``; an output not named is read at the instant): a building
+    management system samples its thermometers and logs its meters as interval means."""
+
+    def output_mode(self, name: str) -> str:
+        """How output ``name`` is read at a measured time stamp (``outputs_as``)."""
+        return self.outputs_as.get(name, "instant") if isinstance(self.outputs_as, dict) else self.outputs_as
 
     libraries: list[str] = Field(default_factory=list)
     """Shared libraries the FMU's binary needs but does not ship (e.g. ``libgfortran.so.3``):
@@ -134,6 +140,9 @@ class FMUSimulator(simgap.Simulator):
         # FMI 3.0: why a variable cannot take a start value ('' where it can)
         self._start_value_refusals = {v.name: fmi3.why_no_start_value(v) for v in description.modelVariables} if self._fmi3 else {}
         self._check_start_values()
+        for name in (options.outputs_as if isinstance(options.outputs_as, dict) else {}):
+            if name not in self._variables:
+                raise simgap.ModelError(f"{self.context.source}: simulator.options.outputs_as.{name}: {path.name} has no variable '{name}'")
         described = {v.name: v.start for v in self._variables.values() if v.settable and v.start is not None}
         self._fixed_values = {**(described if options.apply_start_values else {}), **options.start_values}
 
@@ -299,11 +308,16 @@ class FMUSimulator(simgap.Simulator):
                 f"output {case.outputs[column]} is {buffer[row, column]} at t={prepared.grid[row]:g} s"
             )
         output_time = np.asarray(case.output_time, dtype=float)
-        if self.options.outputs_as != "instant":
-            return {name: interval_means(prepared.grid, buffer[:, j], output_time, self.options.outputs_as) for j, name in enumerate(case.outputs)}
-        if prepared.output_rows is not None:
-            return {name: buffer[prepared.output_rows, j] for j, name in enumerate(case.outputs)}
-        return {name: np.interp(output_time, prepared.grid, buffer[:, j]) for j, name in enumerate(case.outputs)}
+        out = {}
+        for j, name in enumerate(case.outputs):
+            mode = self.options.output_mode(name)
+            if mode != "instant":
+                out[name] = interval_means(prepared.grid, buffer[:, j], output_time, mode)
+            elif prepared.output_rows is not None:
+                out[name] = buffer[prepared.output_rows, j]
+            else:
+                out[name] = np.interp(output_time, prepared.grid, buffer[:, j])
+        return out
 
     # ---------------------------------------------------------------------------------------
     # model exchange
@@ -363,10 +377,11 @@ class FMUSimulator(simgap.Simulator):
             values = np.asarray(result[name], dtype=float)
             if not np.all(np.isfinite(values)):
                 raise simgap.SimulationFailed(f"output {name} is not finite")
-            if self.options.outputs_as == "instant":
+            mode = self.options.output_mode(name)
+            if mode == "instant":
                 aligned[name] = np.interp(output_time, result["time"], values)
             else:
-                aligned[name] = interval_means(result["time"], values, output_time, self.options.outputs_as)
+                aligned[name] = interval_means(result["time"], values, output_time, mode)
         return aligned
 
     # ---------------------------------------------------------------------------------------
