@@ -14,7 +14,7 @@ tuner's truth beyond its range); then the noise. Calibrated and diagnosed throug
 command with its defaults (``blind_cli.calibrate_and_diagnose``). Right: the first claim is the
 withheld effect on its reading or input, the right way round; a null case: nothing claimed.
 
-    python benchmarks/diagnosis_ahu.py --out DIR [--shard k/n] [--workers 1] [--seeds ...]
+    python benchmarks/diagnosis_ahu.py --out DIR [--shard k/n] [--workers 1] [--seeds ...] [--means]
     python benchmarks/diagnosis_ahu.py --table DIR/results.json [...]
 
 The cases were fixed (and committed) before any of them ran; seed 1 is the case the model and
@@ -207,7 +207,7 @@ data:
     warmup: 1h
 simulator:
   plugin: fmu
-  options: {{fmu: {fmu}, step_size: 300, inputs_as: mean_starting}}
+  options: {{fmu: {fmu}, {reading}inputs_as: mean_starting}}
   inputs: {{T_oa: T_oa, m_air: m_air, valve: valve, T_hw: T_hw}}
 parameters:
   - {{name: UA_coil, min: {UA_coil[0]}, max: {UA_coil[1]}, unit: W/K}}
@@ -228,14 +228,21 @@ output: .
 """
 
 
-def write_case(case: Case, fmu: Path, folder: Path) -> Path:
+READ_AS_SAMPLES = "step_size: 300, "
+READ_AS_LOGGED = "step_size: 60, outputs_as: {Q_hw: mean_starting}, "
+"""``--means``: the heat meter's record read as the 5-min means it is, the thermometer at its
+instants, 1-min steps (docs/diagnosis.md, Limits: logging resolution). The blind cases ran
+without it, every output read at the instant of its stamp."""
+
+
+def write_case(case: Case, fmu: Path, folder: Path, reading: str = READ_AS_SAMPLES) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     logged = as_logged(case)
     numbers = logged.columns.drop("time")
     logged[numbers] = logged[numbers].round(4)
     logged.to_csv(folder / "measured.csv", index=False, date_format="%Y-%m-%d %H:%M:%S")
     path = folder / "workflow.yaml"
-    path.write_text(WORKFLOW.format(label=case.label, seed=case.seed, fmu=fmu, **TUNERS))
+    path.write_text(WORKFLOW.format(label=case.label, seed=case.seed, fmu=fmu, reading=reading, **TUNERS))
     return path
 
 
@@ -264,6 +271,7 @@ def main(argv=None) -> None:
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--seeds", help="only these seeds (comma-separated)")
     parser.add_argument("--table", nargs="+", type=Path)
+    parser.add_argument("--means", action="store_true", help="read the heat meter as the 5-min means it logs (not blind)")
     args = parser.parse_args(argv)
     if args.table:
         print_table(args.table, {c.seed: c.effect for c in CASES}, top_three=True)
@@ -279,7 +287,8 @@ def main(argv=None) -> None:
     for case in mine:
         print(f"{case.label} (seed {case.seed}) ...", flush=True)
         folder = out / f"seed{case.seed}"
-        run_dir, timings = calibrate_and_diagnose(write_case(case, fmu, folder), folder, args.workers)
+        workflow = write_case(case, fmu, folder, READ_AS_LOGGED if args.means else READ_AS_SAMPLES)
+        run_dir, timings = calibrate_and_diagnose(workflow, folder, args.workers)
         row = ({"case": case.label, "seed": case.seed, **timings} if run_dir is None
                else {**score_case(case, run_dir, reading_right), **timings})
         print(json.dumps(row), flush=True)

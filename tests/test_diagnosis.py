@@ -287,6 +287,43 @@ def test_a_claimed_reading_error_says_where_a_tuner_makes_its_change():
     assert "not determined" not in verdict([gain])
 
 
+def test_a_reading_error_the_readings_determine_together_is_not_undetermined():
+    """An air handler's supply thermometer 0.7 K high (the blind pythonfmu air handler, seed 12):
+    the water flow ``mw_nom`` makes 99 % of the offset's change on the thermometer and 100 % of
+    the heat meter's gain on the meter, but it moves both readings together, and the offset
+    moves one. Stacked over both targets, re-tuning makes half of the offset's change: the two
+    readings together determine it, and it is claimed."""
+    import numpy as np
+
+    from simgap.diagnosis.ranking import Candidate, Nuisance, jointly_reproduced
+    from simgap.diagnosis.report import verdict
+
+    n = 200
+    wave = 1.0 + 0.1 * np.sin(np.arange(n) / 9.0)
+    masks = {"T_sa": np.ones(n, dtype=bool), "Q_hw": np.ones(n, dtype=bool)}
+    residual = {"T_sa": np.ones(n), "Q_hw": np.ones(n)}
+    flow = Nuisance(columns={"T_sa": {"mw_nom": wave.copy()}, "Q_hw": {"mw_nom": wave.copy()}})
+    offset = {"T_sa": wave.copy(), "Q_hw": np.zeros(n)}
+    both = {"T_sa": wave.copy(), "Q_hw": wave.copy()}
+    assert jointly_reproduced([both], flow, residual, masks) > 0.999  # what the flow itself does
+    assert abs(jointly_reproduced([offset], flow, residual, masks) - 0.5) < 1e-9
+    assert jointly_reproduced([offset, both], flow, residual, masks) < 0.51  # the least over the settings
+    assert jointly_reproduced([{"T_sa": np.zeros(n), "Q_hw": np.zeros(n)}], flow, residual, masks) is None
+
+    c = Candidate("sensor_offset_gain", "", "", True, significant=True, confirm=True, min_shrink=0.2)
+    c.gap_shrink, c.shrink_vs_control, c.p_vs_control, c.training_shrink_vs_control = 0.85, 0.79, 1e-9, 0.6
+    c.reading_error = True
+    c.per_target = {"T_sa": {"share": 0.5, "reproduced_by_tuners": 0.994, "most_like": "mw_nom"},
+                    "Q_hw": {"share": 0.1, "reproduced_by_tuners": 0.999, "most_like": "mw_nom"}}
+    assert c.undetermined_only and not c.claimed  # each reading alone
+    c.jointly_reproduced = 0.5
+    assert c.claimed and not c.undetermined_only
+    assert "the readings together determine it" in verdict([c]) and "not determined" not in verdict([c])
+    c.jointly_reproduced = 0.995  # a room's offset UA makes without touching the power: still undetermined
+    assert c.undetermined_only and not c.claimed
+    assert c.as_dict()["jointly_reproduced"] == 0.995
+
+
 def test_a_reading_error_re_tuning_makes_on_every_reading_is_not_claimed():
     from simgap.diagnosis.ranking import Candidate
     from simgap.diagnosis.report import verdict

@@ -185,6 +185,9 @@ class Candidate:
     value): an effect that needs more than its range allows may stand in for another."""
     reading_error: bool = False
     """The effect is an error of a reading, not of the plant (:attr:`simgap.Effect.reading_error`)."""
+    jointly_reproduced: float | None = None
+    """For a reading error: the least share, over its screened settings, of its change on every
+    target at once that re-tuning reproduces (:func:`jointly_reproduced`)."""
     same_as: str = ""
     """Another effect of the same physics (:attr:`simgap.Effect.same_as`)."""
     twin_of: str = ""
@@ -271,6 +274,12 @@ class Candidate:
         if not self.reading_error:
             return False
         known = [v for v in self.per_target.values() if v.get("reproduced_by_tuners") is not None]
+        if self.jointly_reproduced is not None and self.jointly_reproduced < UNDETERMINED:
+            # each reading's change a tuner makes, but not all of them at once: the readings
+            # together determine it (an air handler's supply thermometer 0.7 K high: the water
+            # flow makes 99 % of the offset on the thermometer and 100 % of a heat meter's gain,
+            # but it moves both readings together, the offset only one)
+            return False
         return bool(known) and all(v["reproduced_by_tuners"] >= UNDETERMINED and v.get("most_like") for v in known)
 
     @property
@@ -415,6 +424,7 @@ class Candidate:
             "shrink_vs_control": self.shrink_vs_control,
             "training_shrink_vs_control": self.training_shrink_vs_control,
             "polished": self.polished,
+            "jointly_reproduced": self.jointly_reproduced,
             "stand_in_slot": self.stand_in_slot,
             "next_round": self.next_round,
             "explained_by": self.explained_by,
@@ -507,6 +517,37 @@ def reproduced_by_tuners(change: np.ndarray, tuners: dict[str, np.ndarray], mask
     rest = x - S @ coef
     cosines = np.abs(S.T @ x) / (np.linalg.norm(S, axis=0) * np.sqrt(ss))
     return float(max(0.0, 1.0 - (rest @ rest) / ss)), names[int(np.argmax(cosines))].removeprefix("tuner ")
+
+
+def jointly_reproduced(responses: list[dict[str, np.ndarray]], nuisance, residual: dict[str, np.ndarray],
+                       masks: dict[str, np.ndarray]) -> float | None:
+    """The least share, over an effect's settings, of its change on every target at once that
+    re-tuning reproduces (:func:`reproduced_by_tuners` of the targets stacked, each target's
+    change and tuner sensitivities over its residual's RMS). Per target a tuner may make a
+    reading error's change on each of its readings, yet not on all of them with one value: then
+    the readings together determine the error. None where no setting changes anything."""
+    worst = None
+    for change in responses:
+        xs, columns = [], {}
+        names = sorted({n for t in masks for n in nuisance.columns.get(t, {})})
+        for t, mask in masks.items():
+            r = np.asarray(residual[t], dtype=float)[mask]
+            scale = float(np.sqrt(np.mean(r**2))) if r.size else 0.0
+            if not scale > 0.0 or t not in change:
+                continue
+            xs.append(np.nan_to_num(np.asarray(change[t], dtype=float)[mask]) / scale)
+            for n in names:
+                column = nuisance.columns.get(t, {}).get(n)
+                columns.setdefault(n, []).append(np.zeros(int(mask.sum())) if column is None
+                                                 else np.nan_to_num(np.asarray(column, dtype=float)[mask]) / scale)
+        if not xs:
+            continue
+        x = np.concatenate(xs)
+        if not np.any(x):
+            continue
+        share, _ = reproduced_by_tuners(x, {n: np.concatenate(c) for n, c in columns.items()}, np.ones(x.size, dtype=bool))
+        worst = share if worst is None else min(worst, share)
+    return worst
 
 
 def explained_by_lag(r: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -621,6 +662,10 @@ class Nuisance:
     """Per column name, the tuner's place in its unit range at the solution (0: lower bound)."""
     blocked: dict[str, list[str]] = field(default_factory=dict)
     """Per target, the tuners :meth:`at_bound` found (at a bound the residual would push them past)."""
+
+    def any_at_bound(self) -> bool:
+        """A tuner of the solution within ``AT_BOUND`` of a bound of its range."""
+        return any(x < AT_BOUND or x > 1.0 - AT_BOUND for x in self.positions.values())
 
     def at_bound(self, target: str, residual: np.ndarray, mask: np.ndarray) -> list[str]:
         """The tuners re-tuning could not move the way ``residual`` of ``target`` asks: at a
@@ -1181,6 +1226,11 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             raws.append(observed)
             ps.append(p)
             cand.features = sorted(set(cand.features) | set(names))
+        if cand.reading_error and responses and nuisance is not None and not nuisance.any_at_bound():
+            # (beside a tuner at its bound a reading's gain may stand in for where the tuner
+            # cannot go: a null case whose heat pump's truth lay below P_nom's bound was claimed
+            # as a power meter reading low, jointly determined at 97 %)
+            cand.jointly_reproduced = jointly_reproduced(responses, nuisance, residual, {t: m for t, (m, _) in prepared_targets.items()})
         if alternatives:
             cand.best_setting = alternative_setting((cand.best_setting, best_target_share), (best_on_envelope, best_envelope_share))
         # an effect may act on one target only: its score is its best target, not a mean that

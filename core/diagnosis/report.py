@@ -382,6 +382,12 @@ def undetermined_readings(c) -> str:
              if v.get("reproduced_by_tuners") is not None and v["reproduced_by_tuners"] >= UNDETERMINED and v.get("most_like")]
     if not loose:
         return ""
+    if c.jointly_reproduced is not None and c.jointly_reproduced < UNDETERMINED:
+        # each reading's change a tuner makes alone, not all of them at once: the readings
+        # together pin the values (an air handler's supply thermometer beside its heat meter)
+        return ("re-tuning makes its change on " + ", ".join(f"{t} ({tuner}: {share:.0%})" for t, share, tuner in loose)
+                + f" one reading at a time, but {c.jointly_reproduced:.0%} of it on all of them at once: "
+                  "the readings together determine it")
     return ("its part on " + ", ".join(f"{t} (re-tuning {tuner} makes {share:.0%} of that change)" for t, share, tuner in loose)
             + " is not determined by these data: the value found there is one of many that fit as well")
 
