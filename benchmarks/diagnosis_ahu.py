@@ -126,6 +126,17 @@ CASES = [
     Case("null, twice the noise", None, 18, noise=2.0),
     Case("null, the fan's heat beyond fan_heat's upper bound (1300 W)", None, 19, truth={"fan_heat": 1300.0}),
     Case("null, the coil's capacity beyond C_coil's upper bound (1.5e6 J/K)", None, 20, truth={"C_coil": 1.5e6}),
+    # set 2, fixed (and committed) after set 1 had run and the joint reading rule was built
+    Case("supply thermometer -0.5 K", "sensor_offset_gain", 21, offset=-0.5),
+    Case("supply thermometer time constant 20 min", "sensor_time_constant", 22, lag_s=1200.0),
+    Case("output logger 20 min early", "clock_shift", 23, shift_s=-1200.0),
+    Case("air-flow meter logs 10 % high", "input_gain_error", 24, flow_gain=1.10),
+    Case("supply thermometer +1.0 K, 1.5x noise", "sensor_offset_gain", 25, offset=1.0, noise=1.5),
+    Case("heat meter reads 12 % low", "sensor_offset_gain", 26, meter_gain=0.88),
+    Case("null", None, 27),
+    Case("null, 1.5x noise", None, 28, noise=1.5),
+    Case("null, the coil's UA beyond UA_coil's upper bound (5000 W/K)", None, 29, truth={"UA_coil": 5000.0}),
+    Case("null, the water flow below mw_nom's lower bound (0.15 kg/s)", None, 30, truth={"mw_nom": 0.15}),
 ]
 
 
