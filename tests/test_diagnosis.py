@@ -1421,3 +1421,24 @@ def test_the_verdicts_possible_effects_are_what_the_last_round_left_and_their_ge
     text = verdict([shift, heater], later=(["clock_shift"], ["defrost (9%, p = 0.002) — a model with the 'useDefrost' switch"]))
     assert text.endswith("possible, with clock_shift in the model, this model cannot take it: defrost (9%, p = 0.002) — "
                          "a model with the 'useDefrost' switch")
+
+
+def test_a_claim_a_tuner_at_its_bound_makes_is_said_to_stand_in_for_it():
+    """The blind air handler's null case 30: the water flow's truth (0.15 kg/s) below
+    ``mw_nom``'s bound (0.2), and a valve signal logged 25 % high claimed, whose change re-tuning
+    ``mw_nom`` makes. The verdict says the claim may stand in for the tuner beyond its range."""
+    import numpy as np
+
+    from simgap.diagnosis.ranking import Candidate, Nuisance
+    from simgap.diagnosis.report import verdict
+
+    flow = Nuisance(columns={}, positions={"tuner mw_nom": 0.0, "tuner UA_coil": 0.3})
+    assert flow.at_a_bound("mw_nom") and not flow.at_a_bound("UA_coil") and flow.any_at_bound()
+    assert not Nuisance(columns={}, positions={"tuner UA_coil": 0.3}).any_at_bound()
+    c = Candidate("input_gain_error", "", "", True, significant=True, confirm=True, min_shrink=0.2, share=0.66, p_value=1e-10)
+    c.gap_shrink, c.shrink_vs_control, c.p_vs_control, c.training_shrink_vs_control = 1.0, 1.0, 1e-30, 0.9
+    c.per_target = {"Q_hw": {"share": 0.66, "chance": 0.0, "p_value": 1e-10, "reproduced_by_tuners": 0.999, "most_like": "mw_nom"}}
+    assert c.claimed and np.isclose(c.reproduced()[0], 0.999)
+    assert "stand in for" not in verdict([c])
+    c.pinned_twin = "mw_nom"
+    assert "re-tuning mw_nom makes its change, and mw_nom sits at a bound of its range: the claim may stand in for mw_nom" in verdict([c])

@@ -185,6 +185,11 @@ class Candidate:
     value): an effect that needs more than its range allows may stand in for another."""
     reading_error: bool = False
     """The effect is an error of a reading, not of the plant (:attr:`simgap.Effect.reading_error`)."""
+    pinned_twin: str = ""
+    """A tuner at a bound of its range that makes (at least ``LIKE_RETUNING`` of) the effect's
+    change on a target: the effect may stand in for that tuner beyond its range (a null case of
+    the blind air handler, its water flow's truth below ``mw_nom``'s bound, claimed as the valve
+    signal logged 25 % high)."""
     jointly_reproduced: float | None = None
     """For a reading error: the least share, over its screened settings, of its change on every
     target at once that re-tuning reproduces (:func:`jointly_reproduced`)."""
@@ -425,6 +430,7 @@ class Candidate:
             "training_shrink_vs_control": self.training_shrink_vs_control,
             "polished": self.polished,
             "jointly_reproduced": self.jointly_reproduced,
+            "pinned_twin": self.pinned_twin,
             "stand_in_slot": self.stand_in_slot,
             "next_round": self.next_round,
             "explained_by": self.explained_by,
@@ -665,7 +671,12 @@ class Nuisance:
 
     def any_at_bound(self) -> bool:
         """A tuner of the solution within ``AT_BOUND`` of a bound of its range."""
-        return any(x < AT_BOUND or x > 1.0 - AT_BOUND for x in self.positions.values())
+        return any(self.at_a_bound(n.removeprefix("tuner ")) for n in self.positions)
+
+    def at_a_bound(self, tuner: str) -> bool:
+        """``tuner`` is within ``AT_BOUND`` of a bound of its range at the solution."""
+        x = self.positions.get(f"tuner {tuner}")
+        return x is not None and (x < AT_BOUND or x > 1.0 - AT_BOUND)
 
     def at_bound(self, target: str, residual: np.ndarray, mask: np.ndarray) -> list[str]:
         """The tuners re-tuning could not move the way ``residual`` of ``target`` asks: at a
@@ -1226,6 +1237,9 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             raws.append(observed)
             ps.append(p)
             cand.features = sorted(set(cand.features) | set(names))
+        if nuisance is not None:
+            share, tuner, _ = cand.reproduced()
+            cand.pinned_twin = tuner if tuner and share >= LIKE_RETUNING and nuisance.at_a_bound(tuner) else ""
         if cand.reading_error and responses and nuisance is not None and not nuisance.any_at_bound():
             # (beside a tuner at its bound a reading's gain may stand in for where the tuner
             # cannot go: a null case whose heat pump's truth lay below P_nom's bound was claimed

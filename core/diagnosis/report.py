@@ -243,6 +243,10 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "",
             parts.append("but its recalibration left " + ", ".join(f"{n} = {v:.4g}" for n, v in claimed[0].at_bounds.items())
                          + " at the bounds of their ranges: the effect needs more than its range allows, or stands in for "
                          "another one; treat the claim with caution")
+        if claimed[0].pinned_twin:
+            tuner = claimed[0].pinned_twin
+            parts.append(f"but re-tuning {tuner} makes its change, and {tuner} sits at a bound of its range: the claim may "
+                         f"stand in for {tuner} beyond its range; widen that range and calibrate again before trusting it")
         undetermined = undetermined_readings(claimed[0])
         if undetermined:
             parts.append(undetermined)
