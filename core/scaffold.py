@@ -470,8 +470,9 @@ def scaffold(model: Path, data: Path, output: Path, libraries: list[Path] = ()) 
     if not matched_outputs:
         raise SimgapError(
             f"{data}: no column matches an output of {model.name} (outputs: "
-            f"{', '.join(v.name for v in outputs) or 'none'}); rename the columns after the model's outputs "
-            f"(simgap inspect {model} --causality output)")
+            f"{', '.join(v.name for v in outputs) or 'none'}; columns: {shorten(', '.join(c.name for c in columns), 120)}); "
+            f"rename the columns after the model's outputs, or write the workflow by hand with data.columns "
+            f"mapping each output to its column ({(outputs[0].name if outputs else 'T')}: {{from: COLUMN, unit: UNIT}})")
     if not tuners:
         raise ModelError(f"{model}: no settable Real parameter with a start value to tune "
                          f"(simgap inspect {model} --causality parameter)")

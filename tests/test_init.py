@@ -101,6 +101,21 @@ def test_quickstart_fmu_with_bms_names_and_units(quickstart_fmu, bms_csv, tmp_pa
     assert {"param.UA_env", "objective.T_zone.rmse", "objective.P_el.cvrmse"} <= set(evaluations.columns)
 
 
+def test_no_output_column_says_which_columns_there_are_and_how_to_map_them(quickstart_fmu, tmp_path):
+    """A BMS export whose point names match no model output (the blind air handler's record:
+    supply_air_C for T_sa): one line naming the outputs, the file's columns and the mapping that
+    takes them, no workflow written."""
+    table = pd.read_csv(QUICKSTART_DATA).rename(columns={"T_zone_degC": "point_017", "P_el_W": "point_042"})
+    path = tmp_path / "points.csv"
+    table.to_csv(path, index=False)
+    result = simgap_cli("init", quickstart_fmu, path, "-o", tmp_path / "w.yaml")
+    assert result.returncode != 0 and not (tmp_path / "w.yaml").exists()
+    message = result.stderr.strip()
+    assert len(message.splitlines()) == 1 and "Traceback" not in message, message
+    assert "no column matches an output" in message and "point_017" in message and "point_042" in message
+    assert "data.columns" in message and "{from: COLUMN, unit: UNIT}" in message
+
+
 def test_refuses_to_overwrite_and_energyplus_says_what_to_do(quickstart_fmu, tmp_path):
     workflow = tmp_path / "workflow.yaml"
     workflow.write_text("mine\n")
