@@ -499,15 +499,12 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
         variables = ctx.prepared.simulator.variables()
     except Exception:  # a simulator that cannot list its variables has no descriptions to offer
         variables = {}
-    declared = declared_units(ctx.prepared.wf)
-    fed = dict(ctx.prepared.wf.model.simulator.inputs)
-
     def plausible(role: str, name: str) -> bool:
         """An outdoor temperature looks like one (a humidity named '...Oda' does not): a
         temperature unit where the model states one, values in K or spread like degC."""
         if role != "outdoor_temperature" or name not in joined_inputs:
             return True
-        unit = _stated_unit(variables, declared, name, fed.get(name, name))
+        unit = ctx.input_units.get(name, "")
         if unit and dimension(unit) != "temperature":
             return False  # an outside air flow in kg/s is no outdoor temperature
         values = np.asarray(joined_inputs[name], dtype=float)
@@ -565,7 +562,7 @@ def guess_roles(ctx: Context) -> tuple[dict[str, str], dict[str, str]]:
         # an input whose stated unit is a flow (an air handler's 'm_air' in kg/s): what the names
         # and descriptions did not say, the unit the model or the workflow states does
         for name in inputs:
-            unit = _stated_unit(variables, declared, name, fed.get(name, name))
+            unit = ctx.input_units.get(name, "")
             if dimension(unit) in _ROLE_DIMENSIONS["flow"]:
                 roles["flow"] = f"input:{name}"
                 sources["flow"] = f"from the unit {unit} of '{name}'"
