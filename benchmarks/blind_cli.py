@@ -12,6 +12,18 @@ import time
 from pathlib import Path
 
 
+def export_pythonfmu(folder: Path, name: str, source: str) -> Path:
+    """``source`` (a pythonfmu slave class named ``name``) exported as ``folder/name.fmu``, once
+    per folder: the benches' FMUs another tool wrote."""
+    fmu = folder / f"{name}.fmu"
+    if not fmu.exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / f"{name}.py").write_text(source)
+        subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(folder / f"{name}.py"), "-d", str(folder)],
+                       check=True, capture_output=True)
+    return fmu
+
+
 def calibrate_and_diagnose(workflow: Path, folder: Path, workers: int) -> tuple[Path | None, dict]:
     """``simgap run`` then ``simgap diagnose`` with their defaults, logs beside the workflow:
     (the run folder, timings and load), or (None, {"error": ...}) where a command failed."""

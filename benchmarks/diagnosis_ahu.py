@@ -26,7 +26,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import subprocess
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -35,7 +34,7 @@ import numpy as np
 import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, print_table, score_case  # noqa: E402
+from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, score_case  # noqa: E402
 
 MODEL = '''
 import math
@@ -141,13 +140,8 @@ CASES = [
 
 
 def build_fmu(folder: Path) -> Path:
-    folder.mkdir(parents=True, exist_ok=True)
-    fmu = folder / "ahu.fmu"
-    if not fmu.exists():
-        (folder / "ahu.py").write_text(MODEL)
-        subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(folder / "ahu.py"), "-d", str(folder)],
-                       check=True, capture_output=True)
-    return fmu
+    """The air handler's coil exported by pythonfmu (once per folder)."""
+    return export_pythonfmu(folder, "ahu", MODEL)
 
 
 def as_logged(case: Case) -> pd.DataFrame:

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 import sys
 import textwrap
 from dataclasses import dataclass, field
@@ -38,7 +37,7 @@ import pandas as pd
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, print_table, score_case  # noqa: E402
+from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, score_case  # noqa: E402
 
 MODEL = '''
 import math
@@ -219,13 +218,7 @@ CASES = [
 
 def build_fmu(folder: Path) -> Path:
     """The room exported by pythonfmu (once per folder)."""
-    fmu = folder / "room.fmu"
-    if not fmu.exists():
-        folder.mkdir(parents=True, exist_ok=True)
-        (folder / "room.py").write_text(MODEL)
-        subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(folder / "room.py"), "-d", str(folder)],
-                       check=True, capture_output=True)
-    return fmu
+    return export_pythonfmu(folder, "room", MODEL)
 
 
 def weather(seed: int) -> pd.DataFrame:
