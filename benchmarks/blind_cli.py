@@ -12,6 +12,25 @@ import time
 from pathlib import Path
 
 
+def run_shard(cases: list, seeds: str | None, shard: str, out: Path, run_one) -> Path:
+    """Run this process's shard (``k/n``) of the cases asked for (``seeds``: comma-separated, or
+    all): ``run_one(case, folder)`` -> the case's result row, printed and written to
+    ``out/results.json`` after each case (``[]`` where the shard is empty). Returns that file. The
+    shard splits the cases asked for: two seeds over two processes run one each."""
+    k, n = map(int, shard.split("/"))
+    asked = [c for c in cases if not seeds or str(c.seed) in seeds.split(",")]
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "results.json"
+    results = []
+    path.write_text("[]")
+    for case in asked[k - 1::n]:
+        print(f"{case.label} (seed {case.seed}) ...", flush=True)
+        results.append(run_one(case, out / f"seed{case.seed}"))
+        print(json.dumps(results[-1], default=str), flush=True)
+        path.write_text(json.dumps(results, indent=1, default=str))
+    return path
+
+
 def export_pythonfmu(folder: Path, name: str, source: str) -> Path:
     """``source`` (a pythonfmu slave class named ``name``) exported as ``folder/name.fmu``, once
     per folder: the benches' FMUs another tool wrote."""

@@ -24,7 +24,6 @@ the record were tried on while they were written (not blind).
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from dataclasses import dataclass, field
@@ -34,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, score_case  # noqa: E402
+from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, run_shard, score_case  # noqa: E402
 
 MODEL = '''
 import math
@@ -283,23 +282,17 @@ def main(argv=None) -> None:
         return
     if args.out is None:
         parser.error("--out is required")
-    k, n = (int(x) for x in args.shard.split("/"))
-    chosen = [c for c in CASES if not args.seeds or str(c.seed) in args.seeds.split(",")]
-    mine = chosen[k - 1::n]  # the shard of the seeds asked for
     out = args.out.resolve()
     fmu = build_fmu(out / "fmu")
-    results = []
-    for case in mine:
-        print(f"{case.label} (seed {case.seed}) ...", flush=True)
-        folder = out / f"seed{case.seed}"
-        workflow = write_case(case, fmu, folder, READ_AS_LOGGED if args.means else READ_AS_SAMPLES)
-        run_dir, timings = calibrate_and_diagnose(workflow, folder, args.workers)
-        row = ({"case": case.label, "seed": case.seed, **timings} if run_dir is None
-               else {**score_case(case, run_dir, reading_right), **timings})
-        print(json.dumps(row), flush=True)
-        results.append(row)
-        (out / "results.json").write_text(json.dumps(results, indent=1))
+    reading = READ_AS_LOGGED if args.means else READ_AS_SAMPLES
 
+    def run_one(case: Case, folder: Path) -> dict:
+        run_dir, timings = calibrate_and_diagnose(write_case(case, fmu, folder, reading), folder, args.workers)
+        return ({"case": case.label, "seed": case.seed, **timings} if run_dir is None
+                else {**score_case(case, run_dir, reading_right), **timings})
+
+    path = run_shard(CASES, args.seeds, args.shard, out, run_one)
+    print_table([path], {c.seed: c.effect for c in CASES}, top_three=True)
 
 if __name__ == "__main__":
     main()

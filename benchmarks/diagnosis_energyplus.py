@@ -30,7 +30,7 @@ import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, print_table, score_case  # noqa: E402
+from blind_cli import calibrate_and_diagnose, print_table, run_shard, score_case  # noqa: E402
 sys.path.insert(0, str(REPO / "examples" / "energyplus"))
 
 
@@ -184,23 +184,9 @@ def main(argv=None) -> None:
     if args.table:
         table(args.table)
         return
-    k, n = map(int, args.shard.split("/"))
     clean = clean_week(args.out.parent / "bungalow_clean.parquet")
-    results = []
-    # the shard splits the cases asked for (two seeds over two processes: one each)
-    asked = [c for c in CASES if not args.seeds or str(c.seed) in args.seeds.split(",")]
-    for i, case in enumerate(asked):
-        if i % n != k - 1:
-            continue
-        print(f"{case.label} (seed {case.seed}) ...", flush=True)
-        results.append(run_case(case, clean, args.out / f"seed{case.seed}", args.workers, args.workflow))
-        print(json.dumps(results[-1], default=str), flush=True)
-        (args.out / "results.json").write_text(json.dumps(results, indent=1, default=str))
-    if not results:
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "results.json").write_text("[]")
-    table([args.out / "results.json"])
-
+    table([run_shard(CASES, args.seeds, args.shard, args.out,
+                     lambda case, folder: run_case(case, clean, folder, args.workers, args.workflow))])
 
 if __name__ == "__main__":
     main()

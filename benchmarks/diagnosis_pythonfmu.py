@@ -37,7 +37,7 @@ import pandas as pd
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, score_case  # noqa: E402
+from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, run_shard, score_case  # noqa: E402
 
 MODEL = '''
 import math
@@ -519,23 +519,8 @@ def main(argv=None) -> None:
         (args.out / "results.json").write_text(json.dumps(stored, indent=1, default=str))
         table([args.out / "results.json"])
         return
-    k, n = map(int, args.shard.split("/"))
     fmu = build_fmu(args.out / "fmu")
-    results = []
-    # the shard splits the cases asked for (two seeds over two processes: one each)
-    asked = [c for c in CASES if not args.seeds or str(c.seed) in args.seeds.split(",")]
-    for i, case in enumerate(asked):
-        if i % n != k - 1:
-            continue
-        print(f"{case.label} (seed {case.seed}) ...", flush=True)
-        results.append(run_case(case, fmu, args.out / f"seed{case.seed}", args.workers))
-        print(json.dumps(results[-1], default=str), flush=True)
-        (args.out / "results.json").write_text(json.dumps(results, indent=1, default=str))
-    if not results:
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "results.json").write_text("[]")
-    table([args.out / "results.json"])
-
+    table([run_shard(CASES, args.seeds, args.shard, args.out, lambda case, folder: run_case(case, fmu, folder, args.workers))])
 
 if __name__ == "__main__":
     main()
