@@ -31,6 +31,30 @@ def run_shard(cases: list, seeds: str | None, shard: str, out: Path, run_one) ->
     return path
 
 
+def print_reach(cases: list, seeds: str | None, shard: str, measure) -> list[dict]:
+    """Each single-effect case's reach (``measure(case)`` -> ``{"p", "excess", "retuned"}``, as
+    ``simgap.models.blind.retuning_reach`` measures it) as a table row: can a perfect
+    recalibration tell the withheld error from re-tuning (decidable, p ≤ the bench's level), and
+    could the claim rule credit it (claimable)? This process's shard (``k/n``) of the cases asked
+    for; returns the rows."""
+    from simgap.models.blind import REACH_SIGNIFICANCE, claimable
+
+    k, n = map(int, shard.split("/"))
+    asked = [c for c in cases if c.effect and (not seeds or str(c.seed) in seeds.split(","))]
+    print("| case | seed | p (perfect against re-tuning) | excess on validation (noise variances) | decidable | claimable | re-tuned |")
+    print("|---|---|---|---|---|---|---|")
+    rows = []
+    for case in asked[k - 1::n]:
+        r = measure(case)
+        r.setdefault("decidable", bool(r["p"] == r["p"] and r["p"] <= REACH_SIGNIFICANCE))
+        yes = {True: "yes", False: "**no**", None: "–"}
+        print(f"| {case.label} | {case.seed} | {r['p']:.2g} | " + ", ".join(f"{t} {v:.2f}" for t, v in r["excess"].items())
+              + f" | {yes[r['decidable']]} | {yes[claimable(r)]} | " + ", ".join(f"{k} {v:.4g}" for k, v in r["retuned"].items()) + " |",
+              flush=True)
+        rows.append({"seed": case.seed, **r})
+    return rows
+
+
 def export_pythonfmu(folder: Path, name: str, source: str) -> Path:
     """``source`` (a pythonfmu slave class named ``name``) exported as ``folder/name.fmu``, once
     per folder: the benches' FMUs another tool wrote."""

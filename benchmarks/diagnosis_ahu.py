@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, run_shard, score_case  # noqa: E402
+from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_reach, print_table, run_shard, score_case  # noqa: E402
 
 MODEL = '''
 import math
@@ -250,22 +250,75 @@ def write_case(case: Case, fmu: Path, folder: Path, reading: str = READ_AS_SAMPL
     return path
 
 
-def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
-    """The claim names the withheld error on its reading or input, the right way round (the blind
-    bench's own check, ``simgap.models.blind.reading_right``)."""
-    if effect != case.effect:
-        return False
+def as_blind(case: Case):
+    """The case as the FMU bench's own ``BlindCase``: its reading errors, lag, clock and input
+    gain under the workflow's names, for that bench's scorer and its sensor writer."""
     from simgap.models.blind import BlindCase
-    from simgap.models.blind import reading_right as right
 
     sensor = {}
     if case.offset:
         sensor["T_sa"] = (case.offset, 1.0)
     if case.meter_gain != 1.0:
         sensor["Q_hw"] = (0.0, case.meter_gain)
-    as_blind = BlindCase("ahu", case.effect, seed=case.seed, sensor=sensor, lag={"T_sa": case.lag_s} if case.lag_s else {},
-                         shift_s=case.shift_s, input_gain={"m_air": case.flow_gain} if case.flow_gain != 1.0 else {})
-    return bool(right(as_blind, effect, found))
+    return BlindCase("ahu", case.effect, seed=case.seed, sensor=sensor, lag={"T_sa": case.lag_s} if case.lag_s else {},
+                     shift_s=case.shift_s, input_gain={"m_air": case.flow_gain} if case.flow_gain != 1.0 else {})
+
+
+def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
+    """The claim names the withheld error on its reading or input, the right way round (the blind
+    bench's own check, ``simgap.models.blind.reading_right``)."""
+    if effect != case.effect:
+        return False
+    from simgap.models.blind import reading_right as right
+
+    return bool(right(as_blind(case), effect, found))
+
+
+def reach(case: Case, fmu: Path, folder: Path) -> dict:
+    """Whether the record can tell the withheld error from re-tuning at all, as
+    ``simgap.models.blind.retuning_reach`` measures it for the FMU bench, through this FMU and the
+    case's own workflow. The *perfect* recalibration is the FMU at the true tuners with the error
+    as the diagnosis's generic effect would add it: the thermometer's offset, time constant and
+    the logger's clock written onto the simulated series, the heat meter's gain onto its reading,
+    the model fed the true air flow for a flow meter's error. *Re-tuning alone* is the FMU without
+    any of it, fitted by bounded least squares from the true tuners to that perfect model's
+    noise-free training series. Against the measured validation record: per target the mean
+    squared error re-tuning leaves above the perfect model's, in units of the latter
+    (``excess``), and the diagnosis's own paired test of the two (``p``). The perfect model is
+    the FMU, not the plant: the plant's PI acts every 10 s under 5-min means, a misfit neither
+    the effect nor re-tuning removes, which both carry alike."""
+    from simgap.models.blind import reach_against_retuning, written_onto
+    from simgap.setup import prepare
+
+    workflow = write_case(case, fmu, folder)
+    noisy = prepare(workflow)
+    fed_true = None
+    if case.flow_gain != 1.0:
+        plant = pd.read_csv(folder / "measured.csv")
+        plant["airflow_kgs"] = plant["airflow_kgs"] / case.flow_gain
+        plant.to_csv(folder / "measured.as_the_plant_was.csv", index=False)
+        as_was = folder / "workflow.as_the_plant_was.yaml"
+        as_was.write_text(workflow.read_text().replace("file: measured.csv", "file: measured.as_the_plant_was.csv"))
+        fed_true = prepare(as_was)
+    blind = as_blind(case)
+    tuners = {**TRUTH, **case.truth}
+    scale = {name: sigma * case.noise for name, sigma in NOISE.items()}
+    try:
+        def perfect(kind: str) -> dict[str, np.ndarray]:
+            from simgap.evaluation import STATUS_OK, evaluate
+
+            setup = getattr(fed_true or noisy, kind)
+            row = evaluate(setup, 0, tuners, keep_series=True)
+            if row["status"] != STATUS_OK:
+                raise RuntimeError(f"{case.label}: the true tuners failed: {row.get('error')}")
+            return {t.name: written_onto(blind, t.name, np.asarray(row["series"][t.name], dtype=float), t.time)
+                    for t in setup.targets}
+
+        return reach_against_retuning(noisy, perfect("training"), perfect("validation"), tuners, scale)
+    finally:
+        noisy.simulator.close()
+        if fed_true is not None:
+            fed_true.simulator.close()
 
 
 def main(argv=None) -> None:
@@ -276,6 +329,7 @@ def main(argv=None) -> None:
     parser.add_argument("--seeds", help="only these seeds (comma-separated)")
     parser.add_argument("--table", nargs="+", type=Path)
     parser.add_argument("--means", action="store_true", help="read the heat meter as the 5-min means it logs (not blind)")
+    parser.add_argument("--reach", action="store_true", help="only the cases' reach: can the record tell the error from re-tuning?")
     args = parser.parse_args(argv)
     if args.table:
         print_table(args.table, {c.seed: c.effect for c in CASES}, top_three=True)
@@ -285,6 +339,9 @@ def main(argv=None) -> None:
     out = args.out.resolve()
     fmu = build_fmu(out / "fmu")
     reading = READ_AS_LOGGED if args.means else READ_AS_SAMPLES
+    if args.reach:
+        print_reach(CASES, args.seeds, args.shard, lambda case: reach(case, fmu, out / f"reach_seed{case.seed}"))
+        return
 
     def run_one(case: Case, folder: Path) -> dict:
         run_dir, timings = calibrate_and_diagnose(write_case(case, fmu, folder, reading), folder, args.workers)

@@ -28,7 +28,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -37,7 +36,7 @@ import pandas as pd
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_table, run_shard, score_case  # noqa: E402
+from blind_cli import calibrate_and_diagnose, export_pythonfmu, print_reach, print_table, run_shard, score_case  # noqa: E402
 
 MODEL = '''
 import math
@@ -495,14 +494,7 @@ def main(argv=None) -> None:
     parser.add_argument("--reach", action="store_true", help="only the cases' reach: can the record tell the error from re-tuning?")
     args = parser.parse_args(argv)
     if args.reach:
-        print("| case | seed | p (perfect against re-tuning) | excess on validation (noise variances) | re-tuned |")
-        print("|---|---|---|---|---|")
-        for case in CASES:
-            if case.effect is None or (args.seeds and str(case.seed) not in args.seeds.split(",")):
-                continue
-            r = reach(case)
-            print(f"| {case.label} | {case.seed} | {r['p']:.2g} | " + ", ".join(f"{t} {v:.2f}" for t, v in r["excess"].items())
-                  + " | " + ", ".join(f"{k} {v:.4g}" for k, v in r["retuned"].items()) + " |", flush=True)
+        print_reach(CASES, args.seeds, args.shard, reach)
         return
     if args.table:
         table(args.table)

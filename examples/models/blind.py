@@ -778,7 +778,7 @@ def claimable(reach: dict | None, min_shrink: float = 0.2) -> bool | None:
     return max(excess) >= WITHIN_NOISE or max(excess) >= WITHIN_NOISE_SHRINK * min_shrink
 
 
-def _written_onto(case: BlindCase, name: str, values, time):
+def written_onto(case: BlindCase, name: str, values, time):
     """A simulated target's series as ``case``'s sensor and logger would have written it
     (``_as_logged``), each contiguous stretch of ``time`` (a training or validation case) apart."""
     import numpy as np
@@ -821,9 +821,7 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
     import json
 
     import numpy as np
-    from scipy.optimize import least_squares
 
-    from simgap.diagnosis.shrink import improvement_p_value
     from simgap.evaluation import STATUS_OK, evaluate
     from simgap.setup import prepare
 
@@ -845,8 +843,6 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
 
         fed_true = prepare(_workflow_on_changed_data(folder, "as_the_plant_was", as_the_plant_was))
     try:
-        space = noisy.space
-        names = list(space.names)
         tuners = {**BLIND_TUNERS[case.model], **case.truth}
         # the model's switch and the effect's setting, as the generator ran them
         perfect_params = {**tuners, **{k: float(v) for k, v in truth_file["parameters"].items() if k not in tuners}}
@@ -865,54 +861,79 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
             sim = series(setup, perfect_params)
             if sim is None:
                 raise RuntimeError(f"{case.label}: the true parameters failed")
-            return {t.name: _written_onto(case, t.name, sim[t.name], t.time) for t in setup.targets}
+            return {t.name: written_onto(case, t.name, sim[t.name], t.time) for t in setup.targets}
 
-        ideal_training, ideal_validation = perfect("training"), perfect("validation")
-
-        def values(u: np.ndarray) -> dict[str, float]:
-            return space.as_dicts(space.from_unit(np.asarray(u)[None, :]))[0]
-
-        def residuals(u: np.ndarray) -> np.ndarray:
-            sim = series(noisy.training, values(u))
-            parts = []
-            for t in noisy.training.targets:
-                r = (ideal_training[t.name] - sim[t.name]) / scale[t.name] if sim is not None else np.full(len(t.measured), 1e3)
-                parts.append(np.where(np.isfinite(r), r, 0.0))
-            return np.concatenate(parts)
-
-        start = space.to_unit(np.array([[tuners[n] for n in names]], dtype=float))[0]
-        # a coarse finite-difference step first: a switching model's error moves in steps (on/off
-        # at 60-s steps in hourly means), and a 1 % step can see no slope at all; then a fine one
-        x, cost, evaluations = np.clip(start, 0.0, 1.0), np.inf, 0
-        for step in (0.05, 0.01):
-            fit = least_squares(residuals, x, bounds=(0.0, 1.0), diff_step=step, max_nfev=iterations, method="trf")
-            evaluations += int(fit.nfev)
-            if fit.cost < cost:
-                x, cost = fit.x, float(fit.cost)
-        retuned = values(x)
-        sim = series(noisy.validation, retuned)
-        if sim is None:
-            return None
-        measured = {t.name: np.asarray(t.measured, dtype=float) for t in noisy.validation.targets}
-        mine = {t: measured[t] - ideal_validation[t] for t in measured}
-        control = {t: measured[t] - sim[t] for t in measured}
-        excess, left = {}, {}
-        for t in measured:
-            ok = np.isfinite(mine[t]) & np.isfinite(control[t])
-            floor = float(np.mean(mine[t][ok] ** 2))
-            excess[t] = float(np.mean(control[t][ok] ** 2)) / floor - 1.0 if floor > 0 else float("nan")
-            left[t] = float(np.sqrt(np.mean((ideal_validation[t][ok] - sim[t][ok]) ** 2)) / scale[t])
-        p = improvement_p_value(mine, control, {t: 1.0 for t in measured})
-        return {
-            "retuned": retuned,
-            "truth": {n: float(tuners[n]) for n in names if n in tuners},
-            "excess": excess,
-            "left_sigma": left,
-            "p": p,
-            "decidable": bool(np.isfinite(p) and p <= REACH_SIGNIFICANCE),
-            "fit_evaluations": evaluations,
-        }
+        return reach_against_retuning(noisy, perfect("training"), perfect("validation"), tuners, scale, iterations)
     finally:
         noisy.simulator.close()
         if fed_true is not None:
             fed_true.simulator.close()
+
+
+def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, tuners: dict[str, float],
+                           scale: dict[str, float], iterations: int = 25) -> dict | None:
+    """:func:`retuning_reach`'s measure for any bench whose workflow ``noisy`` (a prepared
+    setup, the record as measured) and whose *perfect* recalibration (``ideal_training``,
+    ``ideal_validation``: each target's series as the model with the true effect simulates and
+    logs it) it is given: the base model fitted from ``tuners`` (the truth) to the perfect
+    training series, residuals in units of ``scale`` (each target's noise); then ``excess``
+    (per target, the validation MSE against the record that re-tuning leaves above the perfect
+    model's, in units of the latter), ``p`` (the diagnosis's paired test of the perfect model
+    against the re-tuned one), ``decidable`` (p ≤ ``REACH_SIGNIFICANCE``), ``left_sigma`` (how
+    far re-tuning stays from the perfect model on validation, in noise standard deviations)."""
+    import numpy as np
+    from scipy.optimize import least_squares
+
+    from simgap.diagnosis.shrink import improvement_p_value
+    from simgap.evaluation import STATUS_OK, evaluate
+
+    space = noisy.space
+    names = list(space.names)
+
+    def series(setup, params) -> dict[str, np.ndarray] | None:
+        row = evaluate(setup, 0, params, keep_series=True)
+        return None if row["status"] != STATUS_OK else {k: np.asarray(s, dtype=float) for k, s in row["series"].items()}
+
+    def values(u: np.ndarray) -> dict[str, float]:
+        return space.as_dicts(space.from_unit(np.asarray(u)[None, :]))[0]
+
+    def residuals(u: np.ndarray) -> np.ndarray:
+        sim = series(noisy.training, values(u))
+        parts = []
+        for t in noisy.training.targets:
+            r = (ideal_training[t.name] - sim[t.name]) / scale[t.name] if sim is not None else np.full(len(t.measured), 1e3)
+            parts.append(np.where(np.isfinite(r), r, 0.0))
+        return np.concatenate(parts)
+
+    start = space.to_unit(np.array([[tuners[n] for n in names]], dtype=float))[0]
+    # a coarse finite-difference step first: a switching model's error moves in steps (on/off
+    # at 60-s steps in hourly means), and a 1 % step can see no slope at all; then a fine one
+    x, cost, evaluations = np.clip(start, 0.0, 1.0), np.inf, 0
+    for step in (0.05, 0.01):
+        fit = least_squares(residuals, x, bounds=(0.0, 1.0), diff_step=step, max_nfev=iterations, method="trf")
+        evaluations += int(fit.nfev)
+        if fit.cost < cost:
+            x, cost = fit.x, float(fit.cost)
+    retuned = values(x)
+    sim = series(noisy.validation, retuned)
+    if sim is None:
+        return None
+    measured = {t.name: np.asarray(t.measured, dtype=float) for t in noisy.validation.targets}
+    mine = {t: measured[t] - ideal_validation[t] for t in measured}
+    control = {t: measured[t] - sim[t] for t in measured}
+    excess, left = {}, {}
+    for t in measured:
+        ok = np.isfinite(mine[t]) & np.isfinite(control[t])
+        floor = float(np.mean(mine[t][ok] ** 2))
+        excess[t] = float(np.mean(control[t][ok] ** 2)) / floor - 1.0 if floor > 0 else float("nan")
+        left[t] = float(np.sqrt(np.mean((ideal_validation[t][ok] - sim[t][ok]) ** 2)) / scale[t])
+    p = improvement_p_value(mine, control, {t: 1.0 for t in measured})
+    return {
+        "retuned": retuned,
+        "truth": {n: float(tuners[n]) for n in names if n in tuners},
+        "excess": excess,
+        "left_sigma": left,
+        "p": p,
+        "decidable": bool(np.isfinite(p) and p <= REACH_SIGNIFICANCE),
+        "fit_evaluations": evaluations,
+    }
