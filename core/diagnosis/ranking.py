@@ -525,6 +525,15 @@ def reproduced_by_tuners(change: np.ndarray, tuners: dict[str, np.ndarray], mask
     return float(max(0.0, 1.0 - (rest @ rest) / ss)), names[int(np.argmax(cosines))].removeprefix("tuner ")
 
 
+def twins_at_bound(cand: "Candidate", nuisance: "Nuisance") -> list[str]:
+    """The tuners that make at least ``LIKE_RETUNING`` of ``cand``'s change on some target
+    (``reproduced_by_tuners``, ``most_like``) and sit within ``AT_BOUND`` of a bound of their
+    range: where there are any, the effect may stand in for a tuner beyond its range, and its
+    readings are not judged together (:func:`jointly_reproduced`)."""
+    return sorted({v["most_like"] for v in cand.per_target.values()
+                   if v.get("most_like") and v.get("reproduced_by_tuners", 0.0) >= LIKE_RETUNING and nuisance.at_a_bound(v["most_like"])})
+
+
 def jointly_reproduced(responses: list[dict[str, np.ndarray]], nuisance, residual: dict[str, np.ndarray],
                        masks: dict[str, np.ndarray]) -> float | None:
     """The least share, over an effect's settings, of its change on every target at once that
@@ -668,10 +677,6 @@ class Nuisance:
     """Per column name, the tuner's place in its unit range at the solution (0: lower bound)."""
     blocked: dict[str, list[str]] = field(default_factory=dict)
     """Per target, the tuners :meth:`at_bound` found (at a bound the residual would push them past)."""
-
-    def any_at_bound(self) -> bool:
-        """A tuner of the solution within ``AT_BOUND`` of a bound of its range."""
-        return any(self.at_a_bound(n.removeprefix("tuner ")) for n in self.positions)
 
     def at_a_bound(self, tuner: str) -> bool:
         """``tuner`` is within ``AT_BOUND`` of a bound of its range at the solution."""
@@ -1240,10 +1245,14 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         if nuisance is not None:
             share, tuner, _ = cand.reproduced()
             cand.pinned_twin = tuner if tuner and share >= LIKE_RETUNING and nuisance.at_a_bound(tuner) else ""
-        if cand.reading_error and responses and nuisance is not None and not nuisance.any_at_bound():
-            # (beside a tuner at its bound a reading's gain may stand in for where the tuner
-            # cannot go: a null case whose heat pump's truth lay below P_nom's bound was claimed
-            # as a power meter reading low, jointly determined at 97 %)
+        if cand.reading_error and responses and nuisance is not None and not twins_at_bound(cand, nuisance):
+            # (where a tuner that makes the reading's change sits at its bound, the reading's gain
+            # may stand in for where that tuner cannot go: a null case whose heat pump's truth lay
+            # below P_nom's bound was claimed as a power meter reading low, jointly determined at
+            # 97 %. A tuner at its bound that does not make the change is no reason: an air
+            # handler's heat meter reading 12 % low, its fan heat at its bound and the water flow
+            # making the change, was held back until session 77, though a perfect recalibration
+            # beats re-tuning at p = 1e-13, and at 5e-32 with every range five times as wide)
             cand.jointly_reproduced = jointly_reproduced(responses, nuisance, residual, {t: m for t, (m, _) in prepared_targets.items()})
         if alternatives:
             cand.best_setting = alternative_setting((cand.best_setting, best_target_share), (best_on_envelope, best_envelope_share))
