@@ -41,15 +41,16 @@ def print_reach(cases: list, seeds: str | None, shard: str, measure) -> list[dic
 
     k, n = map(int, shard.split("/"))
     asked = [c for c in cases if c.effect and (not seeds or str(c.seed) in seeds.split(","))]
-    print("| case | seed | p (perfect against re-tuning) | excess on validation (noise variances) | decidable | claimable | re-tuned |")
-    print("|---|---|---|---|---|---|---|")
+    print("| case | seed | p (perfect against re-tuning) | excess on validation (noise variances) | decidable | claimable | re-tuned | at a bound |")
+    print("|---|---|---|---|---|---|---|---|")
     rows = []
     for case in asked[k - 1::n]:
         r = measure(case)
         r.setdefault("decidable", bool(r["p"] == r["p"] and r["p"] <= REACH_SIGNIFICANCE))
         yes = {True: "yes", False: "**no**", None: "–"}
         print(f"| {case.label} | {case.seed} | {r['p']:.2g} | " + ", ".join(f"{t} {v:.2f}" for t, v in r["excess"].items())
-              + f" | {yes[r['decidable']]} | {yes[claimable(r)]} | " + ", ".join(f"{k} {v:.4g}" for k, v in r["retuned"].items()) + " |",
+              + f" | {yes[r['decidable']]} | {yes[claimable(r)]} | " + ", ".join(f"{k} {v:.4g}" for k, v in r["retuned"].items())
+              + f" | {', '.join(r.get('at_bound', [])) or '–'} |",
               flush=True)
         rows.append({"seed": case.seed, **r})
     return rows

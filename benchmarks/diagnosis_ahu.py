@@ -274,7 +274,7 @@ def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
     return bool(right(as_blind(case), effect, found))
 
 
-def reach(case: Case, fmu: Path, folder: Path) -> dict:
+def reach(case: Case, fmu: Path, folder: Path, widen: float = 0.0) -> dict:
     """Whether the record can tell the withheld error from re-tuning at all, as
     ``simgap.models.blind.retuning_reach`` measures it for the FMU bench, through this FMU and the
     case's own workflow. The *perfect* recalibration is the FMU at the true tuners with the error
@@ -286,7 +286,9 @@ def reach(case: Case, fmu: Path, folder: Path) -> dict:
     squared error re-tuning leaves above the perfect model's, in units of the latter
     (``excess``), and the diagnosis's own paired test of the two (``p``). The perfect model is
     the FMU, not the plant: the plant's PI acts every 10 s under 5-min means, a misfit neither
-    the effect nor re-tuning removes, which both carry alike."""
+    the effect nor re-tuning removes, which both carry alike. ``widen``: re-tuning searches ranges
+    that much wider on each side (``blind.reach_against_retuning``): what the record decides only
+    through a range's end."""
     from simgap.models.blind import reach_against_retuning, written_onto
     from simgap.setup import prepare
 
@@ -314,7 +316,7 @@ def reach(case: Case, fmu: Path, folder: Path) -> dict:
             return {t.name: written_onto(blind, t.name, np.asarray(row["series"][t.name], dtype=float), t.time)
                     for t in setup.targets}
 
-        return reach_against_retuning(noisy, perfect("training"), perfect("validation"), tuners, scale)
+        return reach_against_retuning(noisy, perfect("training"), perfect("validation"), tuners, scale, widen=widen)
     finally:
         noisy.simulator.close()
         if fed_true is not None:
@@ -330,6 +332,7 @@ def main(argv=None) -> None:
     parser.add_argument("--table", nargs="+", type=Path)
     parser.add_argument("--means", action="store_true", help="read the heat meter as the 5-min means it logs (not blind)")
     parser.add_argument("--reach", action="store_true", help="only the cases' reach: can the record tell the error from re-tuning?")
+    parser.add_argument("--widen", type=float, default=0.0, help="with --reach: re-tuning searches each range this many widths wider on each side")
     args = parser.parse_args(argv)
     if args.table:
         print_table(args.table, {c.seed: c.effect for c in CASES}, top_three=True)
@@ -340,7 +343,7 @@ def main(argv=None) -> None:
     fmu = build_fmu(out / "fmu")
     reading = READ_AS_LOGGED if args.means else READ_AS_SAMPLES
     if args.reach:
-        print_reach(CASES, args.seeds, args.shard, lambda case: reach(case, fmu, out / f"reach_seed{case.seed}"))
+        print_reach(CASES, args.seeds, args.shard, lambda case: reach(case, fmu, out / f"reach_seed{case.seed}", args.widen))
         return
 
     def run_one(case: Case, folder: Path) -> dict:

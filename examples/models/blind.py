@@ -871,7 +871,7 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
 
 
 def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, tuners: dict[str, float],
-                           scale: dict[str, float], iterations: int = 25) -> dict | None:
+                           scale: dict[str, float], iterations: int = 25, widen: float = 0.0) -> dict | None:
     """:func:`retuning_reach`'s measure for any bench whose workflow ``noisy`` (a prepared
     setup, the record as measured) and whose *perfect* recalibration (``ideal_training``,
     ``ideal_validation``: each target's series as the model with the true effect simulates and
@@ -880,7 +880,17 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
     (per target, the validation MSE against the record that re-tuning leaves above the perfect
     model's, in units of the latter), ``p`` (the diagnosis's paired test of the perfect model
     against the re-tuned one), ``decidable`` (p ≤ ``REACH_SIGNIFICANCE``), ``left_sigma`` (how
-    far re-tuning stays from the perfect model on validation, in noise standard deviations)."""
+    far re-tuning stays from the perfect model on validation, in noise standard deviations),
+    ``at_bound`` (the re-tuned tuners within 1 % of a bound of the range searched).
+
+    ``widen``: re-tuning searches each range widened by that many times its width on each side
+    (on a log tuner's scale, its ratio), a range from zero or above kept at zero or above (a
+    negative capacity, flow or fan heat is no model). An effect the record decides only because
+    re-tuning stopped at a bound the user chose is decided by that range, not by the data: the
+    diagnosis itself will not claim what a tuner at its bound might stand in for (a null record
+    whose truth lies beyond a range looks the same)."""
+    import dataclasses
+
     import numpy as np
     from scipy.optimize import least_squares
 
@@ -888,6 +898,12 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
     from simgap.evaluation import STATUS_OK, evaluate
 
     space = noisy.space
+    if widen:
+        ratio = np.where(space.log, (space.upper / np.where(space.log, space.lower, 1.0)) ** widen, 1.0)
+        width = widen * (space.upper - space.lower)
+        lower = np.where(space.log, space.lower / ratio,
+                         np.where(space.lower >= 0.0, np.maximum(space.lower - width, 0.0), space.lower - width))
+        space = dataclasses.replace(space, lower=lower, upper=np.where(space.log, space.upper * ratio, space.upper + width))
     names = list(space.names)
 
     def series(setup, params) -> dict[str, np.ndarray] | None:
@@ -910,7 +926,8 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
     # at 60-s steps in hourly means), and a 1 % step can see no slope at all; then a fine one
     x, cost, evaluations = np.clip(start, 0.0, 1.0), np.inf, 0
     for step in (0.05, 0.01):
-        fit = least_squares(residuals, x, bounds=(0.0, 1.0), diff_step=step, max_nfev=iterations, method="trf")
+        fit = least_squares(residuals, x, bounds=(0.0, 1.0), diff_step=step / (1.0 + 2.0 * widen), max_nfev=iterations,
+                            method="trf")
         evaluations += int(fit.nfev)
         if fit.cost < cost:
             x, cost = fit.x, float(fit.cost)
@@ -936,4 +953,5 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
         "p": p,
         "decidable": bool(np.isfinite(p) and p <= REACH_SIGNIFICANCE),
         "fit_evaluations": evaluations,
+        "at_bound": [n for n, u in zip(names, x) if u <= 0.01 or u >= 0.99],
     }
