@@ -49,7 +49,8 @@ def print_reach(cases: list, seeds: str | None, shard: str, measure) -> list[dic
         r.setdefault("decidable", bool(r["p"] == r["p"] and r["p"] <= REACH_SIGNIFICANCE))
         yes = {True: "yes", False: "**no**", None: "–"}
         print(f"| {case.label} | {case.seed} | {r['p']:.2g} | " + ", ".join(f"{t} {v:.2f}" for t, v in r["excess"].items())
-              + f" | {yes[r['decidable']]} | {yes[claimable(r)]} | " + ", ".join(f"{k} {v:.4g}" for k, v in r["retuned"].items())
+              + f" | {yes[r['decidable']]} | {yes[claimable(r)]} | "
+              + ("{} {:.4g}, ".format(*r["other"]) if r.get("other") else "") + ", ".join(f"{k} {v:.4g}" for k, v in r["retuned"].items())
               + f" | {', '.join(r.get('at_bound', [])) or '–'} |",
               flush=True)
         rows.append({"seed": case.seed, **r})

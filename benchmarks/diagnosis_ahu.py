@@ -274,6 +274,44 @@ def reading_right(case: Case, effect: str, found: dict[str, float]) -> bool:
     return bool(right(as_blind(case), effect, found))
 
 
+def _perfect(case: Case, fmu: Path, folder: Path):
+    """The case's workflow prepared on the record as measured, the setups fed the plant's true
+    air flow (or None), and the perfect recalibration's series on training and validation: the
+    FMU at the true tuners with the withheld error as the generic effect adds it."""
+    from simgap.evaluation import STATUS_OK, evaluate
+    from simgap.models.blind import written_onto
+    from simgap.setup import prepare
+
+    workflow = write_case(case, fmu, folder)
+    noisy = prepare(workflow)
+    fed_true = prepare(_fed_air_flow(workflow, 1.0 / case.flow_gain, "as_the_plant_was")) if case.flow_gain != 1.0 else None
+    blind, tuners = as_blind(case), {**TRUTH, **case.truth}
+
+    def perfect(kind: str) -> dict[str, np.ndarray]:
+        setup = getattr(fed_true or noisy, kind)
+        row = evaluate(setup, 0, tuners, keep_series=True)
+        if row["status"] != STATUS_OK:
+            raise RuntimeError(f"{case.label}: the true tuners failed: {row.get('error')}")
+        return {t.name: written_onto(blind, t.name, np.asarray(row["series"][t.name], dtype=float), t.time) for t in setup.targets}
+
+    try:
+        return noisy, perfect("training"), perfect("validation")
+    finally:
+        if fed_true is not None:
+            fed_true.simulator.close()
+
+
+def _fed_air_flow(workflow: Path, factor: float, name: str) -> Path:
+    """A copy of the case's workflow whose record's air flow is ``factor`` times the logged one."""
+    folder = workflow.parent
+    frame = pd.read_csv(folder / "measured.csv")
+    frame["airflow_kgs"] = frame["airflow_kgs"] * factor
+    frame.to_csv(folder / f"measured.{name}.csv", index=False)
+    path = folder / f"workflow.{name}.yaml"
+    path.write_text(workflow.read_text().replace("file: measured.csv", f"file: measured.{name}.csv"))
+    return path
+
+
 def reach(case: Case, fmu: Path, folder: Path, widen: float = 0.0) -> dict:
     """Whether the record can tell the withheld error from re-tuning at all, as
     ``simgap.models.blind.retuning_reach`` measures it for the FMU bench, through this FMU and the
@@ -289,38 +327,50 @@ def reach(case: Case, fmu: Path, folder: Path, widen: float = 0.0) -> dict:
     the effect nor re-tuning removes, which both carry alike. ``widen``: re-tuning searches ranges
     that much wider on each side (``blind.reach_against_retuning``): what the record decides only
     through a range's end."""
-    from simgap.models.blind import reach_against_retuning, written_onto
-    from simgap.setup import prepare
+    from simgap.models.blind import reach_against_retuning
 
-    workflow = write_case(case, fmu, folder)
-    noisy = prepare(workflow)
-    fed_true = None
-    if case.flow_gain != 1.0:
-        plant = pd.read_csv(folder / "measured.csv")
-        plant["airflow_kgs"] = plant["airflow_kgs"] / case.flow_gain
-        plant.to_csv(folder / "measured.as_the_plant_was.csv", index=False)
-        as_was = folder / "workflow.as_the_plant_was.yaml"
-        as_was.write_text(workflow.read_text().replace("file: measured.csv", "file: measured.as_the_plant_was.csv"))
-        fed_true = prepare(as_was)
-    blind = as_blind(case)
-    tuners = {**TRUTH, **case.truth}
+    noisy, ideal_training, ideal_validation = _perfect(case, fmu, folder)
     scale = {name: sigma * case.noise for name, sigma in NOISE.items()}
     try:
-        def perfect(kind: str) -> dict[str, np.ndarray]:
-            from simgap.evaluation import STATUS_OK, evaluate
-
-            setup = getattr(fed_true or noisy, kind)
-            row = evaluate(setup, 0, tuners, keep_series=True)
-            if row["status"] != STATUS_OK:
-                raise RuntimeError(f"{case.label}: the true tuners failed: {row.get('error')}")
-            return {t.name: written_onto(blind, t.name, np.asarray(row["series"][t.name], dtype=float), t.time)
-                    for t in setup.targets}
-
-        return reach_against_retuning(noisy, perfect("training"), perfect("validation"), tuners, scale, widen=widen)
+        return reach_against_retuning(noisy, ideal_training, ideal_validation, {**TRUTH, **case.truth}, scale, widen=widen)
     finally:
         noisy.simulator.close()
-        if fed_true is not None:
-            fed_true.simulator.close()
+
+
+def other_meter(case: Case, fmu: Path, folder: Path) -> dict | None:
+    """The reach against the OTHER meter's error: for a heat meter's gain, the air-flow meter's
+    (the model fed the logged flow times a factor), for the air-flow meter's, the heat meter's
+    (the simulated heat read times a factor), each with re-tuning fitted from the true tuners to
+    the perfect model's noise-free training series, the factor the best fit's over a grid of
+    1 % steps about the value the coil's shared scale predicts. As ``reach`` (``p``, ``excess``)
+    on the measured validation record. None where the case withholds neither meter's error."""
+    from simgap.models.blind import reach_against_retuning
+    from simgap.setup import prepare
+
+    if case.flow_gain == 1.0 and case.meter_gain == 1.0:
+        return None
+    noisy, ideal_training, ideal_validation = _perfect(case, fmu, folder)
+    scale = {name: sigma * case.noise for name, sigma in NOISE.items()}
+    tuners = {**TRUTH, **case.truth}
+    best = None
+    try:
+        for step in range(-4, 5):
+            if case.flow_gain != 1.0:
+                factor = (1.0 / case.flow_gain) * (1.0 + 0.01 * step)
+                r = reach_against_retuning(noisy, ideal_training, ideal_validation, tuners, scale,
+                                           reading=lambda s, g=factor: {**s, "Q_hw": s["Q_hw"] * g})
+            else:
+                factor = case.meter_gain * (1.0 + 0.01 * step)
+                fed = prepare(_fed_air_flow(folder / "workflow.yaml", factor, "other_meter"))
+                try:
+                    r = reach_against_retuning(fed, ideal_training, ideal_validation, tuners, scale)
+                finally:
+                    fed.simulator.close()
+            if r is not None and (best is None or r["fit_cost"] < best["fit_cost"]):
+                best = {**r, "other": ("heat meter gain" if case.flow_gain != 1.0 else "air-flow input gain", factor)}
+    finally:
+        noisy.simulator.close()
+    return best
 
 
 def main(argv=None) -> None:
@@ -332,6 +382,8 @@ def main(argv=None) -> None:
     parser.add_argument("--table", nargs="+", type=Path)
     parser.add_argument("--means", action="store_true", help="read the heat meter as the 5-min means it logs (not blind)")
     parser.add_argument("--reach", action="store_true", help="only the cases' reach: can the record tell the error from re-tuning?")
+    parser.add_argument("--other-meter", action="store_true",
+                        help="with --reach: against the other meter's error with re-tuning, not re-tuning alone")
     parser.add_argument("--widen", type=float, default=0.0, help="with --reach: re-tuning searches each range this many widths wider on each side")
     args = parser.parse_args(argv)
     if args.table:
@@ -343,6 +395,10 @@ def main(argv=None) -> None:
     fmu = build_fmu(out / "fmu")
     reading = READ_AS_LOGGED if args.means else READ_AS_SAMPLES
     if args.reach:
+        if args.other_meter:
+            meters = [c for c in CASES if c.flow_gain != 1.0 or c.meter_gain != 1.0]
+            print_reach(meters, args.seeds, args.shard, lambda case: other_meter(case, fmu, out / f"reach_seed{case.seed}"))
+            return
         print_reach(CASES, args.seeds, args.shard, lambda case: reach(case, fmu, out / f"reach_seed{case.seed}", args.widen))
         return
 

@@ -358,6 +358,73 @@ def test_a_reading_error_is_judged_on_all_its_readings_unless_a_tuner_that_makes
     assert twins_at_bound(power, pinned) == []
 
 
+def test_effects_the_data_cannot_tell_apart_even_with_re_tuning_are_said_beside_the_claim():
+    """The blind air handler (session 77): an air-flow meter logging 10 % high is, to the letter,
+    a heat meter reading 9 % low with every extensive tuner 10 % larger (the coil's equations
+    share a scale), and the claim of either is a choice the data did not make. Screened: the
+    heat meter's gain changes the meter's reading alone; the air-flow gain changes both readings,
+    and one tuner moves them back but for the meter's share; so re-tuning together with the
+    air-flow gain makes all of the meter gain's change. The thermometer's offset (another
+    parameter of the same effect) has no such twin, nor has an effect of another shape."""
+    import numpy as np
+
+    from simgap.diagnosis.ranking import Candidate, Nuisance, effects_alike
+    from simgap.diagnosis.report import alike_effects, verdict
+    from simgap.interfaces import EffectAddition, EffectParameter
+
+    n = 400
+    rng = np.random.default_rng(3)
+    load = 1.0 + 0.5 * np.sin(np.arange(n) / 20.0)
+    masks = {"T_sa": np.ones(n, dtype=bool), "Q_hw": np.ones(n, dtype=bool)}
+    residual = {"T_sa": rng.normal(size=n), "Q_hw": rng.normal(size=n)}
+    scale_tuners = Nuisance(columns={"T_sa": {"mw_nom": 0.3 * load}, "Q_hw": {"mw_nom": -load}})
+
+    def effect(name, *parameters):
+        return EffectAddition(switch={}, parameters=tuple(EffectParameter(p, n0, lo, hi, neutral=n0) for p, n0, lo, hi in parameters))
+
+    meter = effect("sensor_offset_gain", ("offset_T_sa", 0.0, -2.0, 2.0), ("gain_Q_hw", 1.0, 0.7, 1.3))
+    flow = effect("input_gain_error", ("inputGain_m_air", 1.0, 0.5, 1.5), ("inputGain_valve", 1.0, 0.5, 1.5))
+    lag = effect("sensor_time_constant", ("tauSensor_T_sa", 0.0, 0.0, 3600.0))
+    wave = np.cos(np.arange(n) / 7.0)
+    screened = {
+        "sensor_offset_gain": (meter, [({"offset_T_sa": 0.5, "gain_Q_hw": 1.0}, {"T_sa": np.full(n, 0.5), "Q_hw": np.zeros(n)})]
+                               + [({"offset_T_sa": 0.0, "gain_Q_hw": g}, {"T_sa": np.zeros(n), "Q_hw": (g - 1.0) * load}) for g in (0.9, 1.1)]),
+        "input_gain_error": (flow, [({"inputGain_m_air": k, "inputGain_valve": 1.0}, {"T_sa": 0.3 * (k - 1.0) * load, "Q_hw": 0.0 * load})
+                                    for k in (0.9, 1.1)]
+                             + [({"inputGain_m_air": 1.0, "inputGain_valve": k}, {"T_sa": 0.1 * (k - 1.0) * wave, "Q_hw": (k - 1.0) * wave})
+                                for k in (0.9, 1.1)]),
+        "sensor_time_constant": (lag, [({"tauSensor_T_sa": 600.0}, {"T_sa": np.gradient(load), "Q_hw": np.zeros(n)})]),
+    }
+    candidates = [Candidate(name, "", "", True, significant=True, addition=screened[name][0], responses=screened[name][1])
+                  for name in screened]
+    effects_alike(candidates, screened, scale_tuners, residual, masks)
+    gain, inputs, lagging = candidates
+    # the meter's gain: the air-flow gain moves the thermometer as the water flow does, and
+    # together they leave the meter's share: alike; the valve's gain has another shape
+    assert set(gain.alike) == {"gain_Q_hw"} and set(gain.alike["gain_Q_hw"]) == {"input_gain_error's inputGain_m_air"}
+    assert gain.alike["gain_Q_hw"]["input_gain_error's inputGain_m_air"] > 0.999
+    assert set(inputs.alike) == {"inputGain_m_air"} and "sensor_offset_gain's gain_Q_hw" in inputs.alike["inputGain_m_air"]
+    assert lagging.alike == {}
+    # a change re-tuning alone makes (the valve's gain, the water flow's twin) is alike to every
+    # effect: not listed (it is undetermined, and said so)
+    screened["input_gain_error"][1].extend(
+        ({"inputGain_m_air": 1.0, "inputGain_valve": k}, {"T_sa": 0.3 * (k - 1.0) * load, "Q_hw": -(k - 1.0) * load}) for k in (0.8, 1.2))
+    screened["input_gain_error"][1][:] = [r for r in screened["input_gain_error"][1] if r[0]["inputGain_valve"] in (1.0, 0.8, 1.2)]
+    effects_alike(candidates, screened, scale_tuners, residual, masks)
+    assert set(inputs.alike) == {"inputGain_m_air"}
+
+    gain.moved_most = "gain_Q_hw"
+    text = alike_effects(gain)
+    assert text.startswith("these data do not tell it from input_gain_error's inputGain_m_air, which with re-tuning makes 100% of its change")
+    gain.moved_most = "offset_T_sa"  # the thermometer's offset was what the recalibration found
+    assert alike_effects(gain) == ""
+    gain.moved_most = "gain_Q_hw"
+    gain.gap_shrink, gain.shrink_vs_control, gain.p_vs_control, gain.training_shrink_vs_control = 0.8, 0.78, 1e-20, 0.7
+    gain.confirm, gain.min_shrink = True, 0.2
+    assert "these data do not tell it from input_gain_error" in verdict([gain])
+    assert gain.as_dict()["alike"] == gain.alike
+
+
 def test_a_reading_error_re_tuning_makes_on_every_reading_is_not_claimed():
     from simgap.diagnosis.ranking import Candidate
     from simgap.diagnosis.report import verdict

@@ -58,6 +58,16 @@ UNDETERMINED = 0.99
 this share of its change there (nearly all: the imitation threshold ``LIKE_RETUNING`` of 0.9
 leaves a tenth of the change for the data to pin the value with)."""
 
+ALIKE_LEAVES = 0.02
+"""Two effects are alike (:func:`effects_alike`) where re-tuning together with the other leaves
+at most this share of what re-tuning alone leaves of one's change (and at most
+``1 - UNDETERMINED`` of it). Measured in session 77: an air handler's air-flow meter gain leaves
+0.02 % of what re-tuning alone leaves of its heat meter's gain (10 %); a zone's compressor-signal
+gain 0.09 % of its power meter's (7 %, the heat pump's efficiency making the rest). Not alike: an
+air heat pump's heating-flow meter gain, 98.0 % re-tuning's, came to 99.9 % beside a sensor lag
+or a post-run (7 % of the 2 % left); a zone thermometer's offset, 98.4 % re-tuning's, to 99.8 %
+beside the compressor signal's gain (10 %)."""
+
 WITHIN_NOISE_SHRINK = 2.0
 """Where re-tuning alone fits every target to within the noise (:func:`simgap.diagnosis.shrink.within_noise`),
 a claim needs this many times the confirmation threshold beyond re-tuning (``diagnose:
@@ -193,6 +203,14 @@ class Candidate:
     jointly_reproduced: float | None = None
     """For a reading error: the least share, over its screened settings, of its change on every
     target at once that re-tuning reproduces (:func:`jointly_reproduced`)."""
+    alike: dict[str, dict[str, float]] = field(default_factory=dict)
+    """Per parameter of the effect (moved alone in the screening): the other effects with which
+    re-tuning reproduces at least ``UNDETERMINED`` of the change on every target at once
+    (:func:`effects_alike`; other effect -> that share). These data cannot tell them apart: an
+    air handler's air-flow meter reading high and its heat meter reading low are one and the same
+    to a coil whose heat is the air flow times its temperature rise."""
+    moved_most: str = ""
+    """The effect parameter its recalibration moved furthest from neutral (a share of its range)."""
     same_as: str = ""
     """Another effect of the same physics (:attr:`simgap.Effect.same_as`)."""
     twin_of: str = ""
@@ -430,6 +448,8 @@ class Candidate:
             "training_shrink_vs_control": self.training_shrink_vs_control,
             "polished": self.polished,
             "jointly_reproduced": self.jointly_reproduced,
+            "alike": self.alike,
+            "moved_most": self.moved_most,
             "pinned_twin": self.pinned_twin,
             "stand_in_slot": self.stand_in_slot,
             "next_round": self.next_round,
@@ -534,6 +554,30 @@ def twins_at_bound(cand: "Candidate", nuisance: "Nuisance") -> list[str]:
                    if v.get("most_like") and v.get("reproduced_by_tuners", 0.0) >= LIKE_RETUNING and nuisance.at_a_bound(v["most_like"])})
 
 
+def _stacked(change: dict[str, np.ndarray], nuisance, residual: dict[str, np.ndarray], masks: dict[str, np.ndarray],
+             others: dict[str, dict[str, np.ndarray]] | None = None):
+    """``change`` on every target at once, and the tuners' sensitivities (with ``others``:
+    further changes as free columns) beside it: each target's part over its residual's RMS,
+    stacked. (None, {}) where nothing changes."""
+    xs, columns = [], {}
+    names = sorted({n for t in masks for n in nuisance.columns.get(t, {})})
+    for t, mask in masks.items():
+        r = np.asarray(residual[t], dtype=float)[mask]
+        scale = float(np.sqrt(np.mean(r**2))) if r.size else 0.0
+        if not scale > 0.0 or t not in change:
+            continue
+        xs.append(np.nan_to_num(np.asarray(change[t], dtype=float)[mask]) / scale)
+        sources = {n: nuisance.columns.get(t, {}).get(n) for n in names}
+        sources.update({k: other.get(t) for k, other in (others or {}).items()})
+        for n, column in sources.items():
+            columns.setdefault(n, []).append(np.zeros(int(mask.sum())) if column is None
+                                             else np.nan_to_num(np.asarray(column, dtype=float)[mask]) / scale)
+    if not xs:
+        return None, {}
+    x = np.concatenate(xs)
+    return (x, {n: np.concatenate(c) for n, c in columns.items()}) if np.any(x) else (None, {})
+
+
 def jointly_reproduced(responses: list[dict[str, np.ndarray]], nuisance, residual: dict[str, np.ndarray],
                        masks: dict[str, np.ndarray]) -> float | None:
     """The least share, over an effect's settings, of its change on every target at once that
@@ -543,26 +587,73 @@ def jointly_reproduced(responses: list[dict[str, np.ndarray]], nuisance, residua
     the readings together determine the error. None where no setting changes anything."""
     worst = None
     for change in responses:
-        xs, columns = [], {}
-        names = sorted({n for t in masks for n in nuisance.columns.get(t, {})})
-        for t, mask in masks.items():
-            r = np.asarray(residual[t], dtype=float)[mask]
-            scale = float(np.sqrt(np.mean(r**2))) if r.size else 0.0
-            if not scale > 0.0 or t not in change:
-                continue
-            xs.append(np.nan_to_num(np.asarray(change[t], dtype=float)[mask]) / scale)
-            for n in names:
-                column = nuisance.columns.get(t, {}).get(n)
-                columns.setdefault(n, []).append(np.zeros(int(mask.sum())) if column is None
-                                                 else np.nan_to_num(np.asarray(column, dtype=float)[mask]) / scale)
-        if not xs:
+        x, columns = _stacked(change, nuisance, residual, masks)
+        if x is None:
             continue
-        x = np.concatenate(xs)
-        if not np.any(x):
-            continue
-        share, _ = reproduced_by_tuners(x, {n: np.concatenate(c) for n, c in columns.items()}, np.ones(x.size, dtype=bool))
+        share, _ = reproduced_by_tuners(x, columns, np.ones(x.size, dtype=bool))
         worst = share if worst is None else min(worst, share)
     return worst
+
+
+def effects_alike(candidates: list["Candidate"], screened: dict[str, tuple], nuisance, residual: dict[str, np.ndarray],
+                  masks: dict[str, np.ndarray]) -> None:
+    """Which effects these data cannot tell apart, even with re-tuning: for each significant
+    candidate and each of its parameters moved alone in the screening, the other candidates'
+    parameters whose change (at any of their screened settings, its size free) together with
+    re-tuning reproduces at least ``UNDETERMINED`` of that change on every target at once, at
+    every setting of the parameter (``Candidate.alike``), where re-tuning alone does not. ``screened``: each candidate's
+    addition and (setting, change) pairs as screened, every alternative's.
+
+    A model's equations may share a scale: a coil whose air flow, conductance, capacity, fan
+    heat and water flow all grow by one factor heats the air alike and draws that factor more
+    heat, so an air-flow meter logging 10 % high is, to the letter, a heat meter reading 9 % low
+    with every extensive tuner 10 % larger (the blind air handler, session 77: a perfect
+    recalibration with either error fits the other's record to within the noise, p = 0.26 and
+    0.35). A claim of one is then a choice the data did not make, and the verdict says so."""
+
+    def by_parameter(name):
+        addition, responses = screened[name]
+        out: dict[str, list[dict[str, np.ndarray]]] = {}
+        for values, change in responses:
+            moved = moved_alternatives(addition, values)
+            if len(moved) == 1:
+                out.setdefault(next(iter(moved)), []).append(change)
+        return out
+
+    groups = {c.name: by_parameter(c.name) for c in candidates if c.name in screened}
+    for x in candidates:
+        if not (x.significant and x.name in groups):
+            continue
+        x.alike = {}
+        for parameter, changes in groups[x.name].items():
+            # a change re-tuning alone makes is alike to every effect; that is said elsewhere
+            # (a valve signal's gain is the water flow's: ``jointly_reproduced``, undetermined)
+            alone = min((reproduced_by_tuners(v, columns, np.ones(v.size, dtype=bool))[0]
+                         for v, columns in (_stacked(change, nuisance, residual, masks) for change in changes) if v is not None),
+                        default=1.0)
+            if alone >= UNDETERMINED:
+                continue
+            shares = {}
+            for y, theirs in groups.items():
+                if y == x.name:
+                    continue
+                for other_parameter, others in theirs.items():
+                    least = None
+                    for change in changes:
+                        best = 0.0
+                        for other in others:
+                            v, columns = _stacked(change, nuisance, residual, masks, {"the other effect": other})
+                            if v is not None:
+                                best = max(best, reproduced_by_tuners(v, columns, np.ones(v.size, dtype=bool))[0])
+                        least = best if least is None else min(least, best)
+                    # the other effect must make what re-tuning alone leaves, not a little more
+                    # of what re-tuning alone nearly makes (an air heating flow meter's gain,
+                    # 98.5 % re-tuning's, came to 99.8 % beside a sensor lag or a post-run)
+                    if least is not None and least >= UNDETERMINED and 1.0 - least <= ALIKE_LEAVES * (1.0 - alone):
+                        label = y if len(theirs) == 1 else f"{y}'s {other_parameter}"
+                        shares[label] = float(least)
+            if shares:
+                x.alike[parameter] = shares
 
 
 def explained_by_lag(r: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -1113,6 +1204,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
     residual = ctx.residual
     config = ctx.config
     candidates: list[Candidate] = []
+    screened: dict[str, tuple] = {}
     # per target: mask, the residual cleared of offset and tuner sensitivities, its nuisance
     prepared_targets, offset_targets = {}, {}
     instants = switching_instants(data)
@@ -1278,6 +1370,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
                 if not cand.envelope_significant:
                     # the recalibration starts at the setting that cycles like the record
                     cand.best_setting = settings[best]
+        screened[cand.name] = (cand.addition, list(cand.responses))  # every alternative's, for effects_alike
         if alternatives and cand.best_setting is not None:
             cand.addition, cand.responses, cand.best_setting = only_the_best_alternative(cand.addition, cand.responses, cand.best_setting)
         # of the settings the recalibration will start from (one reading's, for alternatives)
@@ -1287,4 +1380,6 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         cand.min_share = config.min_share
         cand.confirm_significance = config.confirm_significance
     candidates.sort(key=lambda c: (not c.applicable, -c.share))
+    if nuisance is not None:
+        effects_alike(candidates, screened, nuisance, residual, {t: m for t, (m, _) in prepared_targets.items()})
     return candidates

@@ -185,6 +185,22 @@ def last_round_possible(chain: list[dict]) -> tuple[list[str], list[str]] | None
     return (list(later["with"]), list(later["items"])) if later else None
 
 
+def alike_effects(c) -> str:
+    """The clause naming the effects these data cannot tell from the claimed one's recalibrated
+    parameter (``Candidate.alike``, ``Candidate.moved_most``; the screening's best setting's
+    where it was not recalibrated): '' where there are none."""
+    if c.moved_most:
+        shares = c.alike.get(c.moved_most)
+    else:  # not recalibrated: only where one parameter has twins can the clause say which
+        shares = next(iter(c.alike.values())) if len(c.alike) == 1 else None
+    if not shares:
+        return ""
+    said = ", ".join(f"{name}, which with re-tuning makes {share:.0%} of its change on every reading at once"
+                     for name, share in sorted(shares.items(), key=lambda kv: -kv[1]))
+    return (f"these data do not tell it from {said}: the model's equations take either alike; "
+            "check one of those readings against another instrument before correcting it")
+
+
 def verdict(candidates, control_shrink: float | None = None, gaps: str = "",
             later: tuple[list[str], list[str]] | None = None) -> str:
     """Confirmed effects with their shrink; then those that shrank the gap beyond re-tuning but
@@ -250,6 +266,9 @@ def verdict(candidates, control_shrink: float | None = None, gaps: str = "",
         undetermined = undetermined_readings(claimed[0])
         if undetermined:
             parts.append(undetermined)
+        alike = alike_effects(claimed[0])
+        if alike:
+            parts.append(alike)
         twins = [c.name for c in candidates if c.twin_of == claimed[0].name]
         if twins:
             parts.append(f"the same physics as {', '.join(twins)}, recalibrated as the model's own only")

@@ -1146,6 +1146,9 @@ def _recalibrate_each(ctx, group: list[Candidate], nuisance, control, folder: Pa
             cand.gap_shrink = float(result["gap_shrink"])
             cand.at_bounds = effect_parameters_at_bounds(cand.addition, result.get("effect_parameters") or {})
             result["effect_at_bounds"] = cand.at_bounds
+            found = result.get("effect_parameters") or {}
+            moved = {q.name: moved_share(q, float(found[q.name])) for q in cand.addition.parameters if q.name in found}
+            cand.moved_most = max(moved, key=moved.get) if moved else ""
             cand.shrink_vs_control = result.get("gap_shrink_vs_control")
             cand.p_vs_control = result.get("p_vs_control")
             cand.judged_on = dict(result["weights"]) if result.get("weights_as_screened") else {}

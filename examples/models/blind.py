@@ -871,7 +871,7 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
 
 
 def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, tuners: dict[str, float],
-                           scale: dict[str, float], iterations: int = 25, widen: float = 0.0) -> dict | None:
+                           scale: dict[str, float], iterations: int = 25, widen: float = 0.0, reading=None) -> dict | None:
     """:func:`retuning_reach`'s measure for any bench whose workflow ``noisy`` (a prepared
     setup, the record as measured) and whose *perfect* recalibration (``ideal_training``,
     ``ideal_validation``: each target's series as the model with the true effect simulates and
@@ -888,7 +888,11 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
     negative capacity, flow or fan heat is no model). An effect the record decides only because
     re-tuning stopped at a bound the user chose is decided by that range, not by the data: the
     diagnosis itself will not claim what a tuner at its bound might stand in for (a null record
-    whose truth lies beyond a range looks the same)."""
+    whose truth lies beyond a range looks the same).
+
+    ``reading``: a function of the simulated series (target -> array) that re-tuning's model is
+    read through (another effect's, at a fixed setting), to measure the reach against re-tuning
+    with that effect; ``fit_cost``, the fit's least-squares cost on training, picks the setting."""
     import dataclasses
 
     import numpy as np
@@ -908,7 +912,10 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
 
     def series(setup, params) -> dict[str, np.ndarray] | None:
         row = evaluate(setup, 0, params, keep_series=True)
-        return None if row["status"] != STATUS_OK else {k: np.asarray(s, dtype=float) for k, s in row["series"].items()}
+        if row["status"] != STATUS_OK:
+            return None
+        out = {k: np.asarray(s, dtype=float) for k, s in row["series"].items()}
+        return reading(out) if reading is not None else out
 
     def values(u: np.ndarray) -> dict[str, float]:
         return space.as_dicts(space.from_unit(np.asarray(u)[None, :]))[0]
@@ -953,5 +960,6 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
         "p": p,
         "decidable": bool(np.isfinite(p) and p <= REACH_SIGNIFICANCE),
         "fit_evaluations": evaluations,
+        "fit_cost": cost,
         "at_bound": [n for n, u in zip(names, x) if u <= 0.01 or u >= 0.99],
     }
