@@ -620,6 +620,19 @@ def effects_alike(candidates: list["Candidate"], screened: dict[str, tuple], nui
                 out.setdefault(next(iter(moved)), []).append(change)
         return out
 
+    def made(changes, others=(None,)) -> float:
+        """The least over ``changes`` of the most re-tuning makes of each on every target at once,
+        beside any one of ``others`` (a free column each; None: re-tuning alone)."""
+        least = 1.0
+        for change in changes:
+            best = 0.0
+            for other in others:
+                v, columns = _stacked(change, nuisance, residual, masks, None if other is None else {"the other effect": other})
+                if v is not None:
+                    best = max(best, reproduced_by_tuners(v, columns, np.ones(v.size, dtype=bool))[0])
+            least = min(least, best)
+        return least
+
     groups = {c.name: by_parameter(c.name) for c in candidates if c.name in screened}
     for x in candidates:
         if not (x.significant and x.name in groups):
@@ -628,30 +641,18 @@ def effects_alike(candidates: list["Candidate"], screened: dict[str, tuple], nui
         for parameter, changes in groups[x.name].items():
             # a change re-tuning alone makes is alike to every effect; that is said elsewhere
             # (a valve signal's gain is the water flow's: ``jointly_reproduced``, undetermined)
-            alone = min((reproduced_by_tuners(v, columns, np.ones(v.size, dtype=bool))[0]
-                         for v, columns in (_stacked(change, nuisance, residual, masks) for change in changes) if v is not None),
-                        default=1.0)
+            alone = made(changes)
             if alone >= UNDETERMINED:
                 continue
             shares = {}
             for y, theirs in groups.items():
-                if y == x.name:
-                    continue
-                for other_parameter, others in theirs.items():
-                    least = None
-                    for change in changes:
-                        best = 0.0
-                        for other in others:
-                            v, columns = _stacked(change, nuisance, residual, masks, {"the other effect": other})
-                            if v is not None:
-                                best = max(best, reproduced_by_tuners(v, columns, np.ones(v.size, dtype=bool))[0])
-                        least = best if least is None else min(least, best)
+                for other_parameter, others in (theirs.items() if y != x.name else ()):
+                    share = made(changes, others)
                     # the other effect must make what re-tuning alone leaves, not a little more
                     # of what re-tuning alone nearly makes (an air heating flow meter's gain,
-                    # 98.5 % re-tuning's, came to 99.8 % beside a sensor lag or a post-run)
-                    if least is not None and least >= UNDETERMINED and 1.0 - least <= ALIKE_LEAVES * (1.0 - alone):
-                        label = y if len(theirs) == 1 else f"{y}'s {other_parameter}"
-                        shares[label] = float(least)
+                    # 98.0 % re-tuning's, came to 99.9 % beside a sensor lag or a post-run)
+                    if share >= UNDETERMINED and 1.0 - share <= ALIKE_LEAVES * (1.0 - alone):
+                        shares[y if len(theirs) == 1 else f"{y}'s {other_parameter}"] = float(share)
             if shares:
                 x.alike[parameter] = shares
 
