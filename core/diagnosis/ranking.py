@@ -554,28 +554,43 @@ def twins_at_bound(cand: "Candidate", nuisance: "Nuisance") -> list[str]:
                    if v.get("most_like") and v.get("reproduced_by_tuners", 0.0) >= LIKE_RETUNING and nuisance.at_a_bound(v["most_like"])})
 
 
-def _stacked(change: dict[str, np.ndarray], nuisance, residual: dict[str, np.ndarray], masks: dict[str, np.ndarray],
-             others: dict[str, dict[str, np.ndarray]] | None = None):
-    """``change`` on every target at once, and the tuners' sensitivities (with ``others``:
-    further changes as free columns) beside it: each target's part over its residual's RMS,
-    stacked. (None, {}) where nothing changes."""
-    xs, columns = [], {}
-    names = sorted({n for t in masks for n in nuisance.columns.get(t, {})})
-    for t, mask in masks.items():
-        r = np.asarray(residual[t], dtype=float)[mask]
-        scale = float(np.sqrt(np.mean(r**2))) if r.size else 0.0
-        if not scale > 0.0 or t not in change:
-            continue
-        xs.append(np.nan_to_num(np.asarray(change[t], dtype=float)[mask]) / scale)
-        sources = {n: nuisance.columns.get(t, {}).get(n) for n in names}
-        sources.update({k: other.get(t) for k, other in (others or {}).items()})
-        for n, column in sources.items():
-            columns.setdefault(n, []).append(np.zeros(int(mask.sum())) if column is None
-                                             else np.nan_to_num(np.asarray(column, dtype=float)[mask]) / scale)
-    if not xs:
-        return None, {}
-    x = np.concatenate(xs)
-    return (x, {n: np.concatenate(c) for n, c in columns.items()}) if np.any(x) else (None, {})
+class _Stacked:
+    """A change on every target at once beside the tuners' sensitivities (and, for
+    :func:`effects_alike`, another effect's change as a free column): each target's part over its
+    residual's RMS, stacked. The scales and the tuners' columns are computed once per screening,
+    not for every change they are set beside."""
+
+    def __init__(self, nuisance, residual: dict[str, np.ndarray], masks: dict[str, np.ndarray]):
+        names = sorted({n for t in masks for n in nuisance.columns.get(t, {})})
+        self.parts = {}
+        for t, mask in masks.items():
+            r = np.asarray(residual[t], dtype=float)[mask]
+            scale = float(np.sqrt(np.mean(r**2))) if r.size else 0.0
+            if not scale > 0.0:
+                continue
+            columns = {}
+            for n in names:
+                column = nuisance.columns.get(t, {}).get(n)
+                columns[n] = np.zeros(int(mask.sum())) if column is None else np.nan_to_num(np.asarray(column, dtype=float)[mask]) / scale
+            self.parts[t] = (mask, scale, columns)
+
+    def __call__(self, change: dict[str, np.ndarray], others: dict[str, dict[str, np.ndarray]] | None = None):
+        """(``change`` stacked, the columns beside it); (None, {}) where nothing changes."""
+        xs, columns = [], {}
+        for t, (mask, scale, tuners) in self.parts.items():
+            if t not in change:
+                continue
+            xs.append(np.nan_to_num(np.asarray(change[t], dtype=float)[mask]) / scale)
+            for n, column in tuners.items():
+                columns.setdefault(n, []).append(column)
+            for k, other in (others or {}).items():
+                column = other.get(t)
+                columns.setdefault(k, []).append(np.zeros(int(mask.sum())) if column is None
+                                                 else np.nan_to_num(np.asarray(column, dtype=float)[mask]) / scale)
+        if not xs:
+            return None, {}
+        x = np.concatenate(xs)
+        return (x, {n: np.concatenate(c) for n, c in columns.items()}) if np.any(x) else (None, {})
 
 
 def jointly_reproduced(responses: list[dict[str, np.ndarray]], nuisance, residual: dict[str, np.ndarray],
@@ -585,9 +600,10 @@ def jointly_reproduced(responses: list[dict[str, np.ndarray]], nuisance, residua
     change and tuner sensitivities over its residual's RMS). Per target a tuner may make a
     reading error's change on each of its readings, yet not on all of them with one value: then
     the readings together determine the error. None where no setting changes anything."""
+    stacked = _Stacked(nuisance, residual, masks)
     worst = None
     for change in responses:
-        x, columns = _stacked(change, nuisance, residual, masks)
+        x, columns = stacked(change)
         if x is None:
             continue
         share, _ = reproduced_by_tuners(x, columns, np.ones(x.size, dtype=bool))
@@ -620,6 +636,8 @@ def effects_alike(candidates: list["Candidate"], screened: dict[str, tuple], nui
                 out.setdefault(next(iter(moved)), []).append(change)
         return out
 
+    stacked = _Stacked(nuisance, residual, masks)
+
     def made(changes, others=(None,)) -> float:
         """The least over ``changes`` of the most re-tuning makes of each on every target at once,
         beside any one of ``others`` (a free column each; None: re-tuning alone)."""
@@ -627,7 +645,7 @@ def effects_alike(candidates: list["Candidate"], screened: dict[str, tuple], nui
         for change in changes:
             best = 0.0
             for other in others:
-                v, columns = _stacked(change, nuisance, residual, masks, None if other is None else {"the other effect": other})
+                v, columns = stacked(change, None if other is None else {"the other effect": other})
                 if v is not None:
                     best = max(best, reproduced_by_tuners(v, columns, np.ones(v.size, dtype=bool))[0])
             least = min(least, best)
@@ -1247,6 +1265,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             views.append((Ne, _clear(envelope(r[mask][:, None]), Ne)[:, 0], envelope))
         prepared_targets[t] = (mask, views)
         offset_targets[t] = (mask, N_kept, _clear(r[mask][:, None], N_kept)[:, 0])
+    masks = {t: m for t, (m, _) in prepared_targets.items()}
     for effect in effects:
         reason = effect.applies(data)
         cand = Candidate(effect.name, effect.description, effect.evidence, applicable=reason is None, reason=reason or "")
@@ -1346,7 +1365,7 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
             # handler's heat meter reading 12 % low, its fan heat at its bound and the water flow
             # making the change, was held back until session 77, though a perfect recalibration
             # beats re-tuning at p = 1e-13, and at 5e-32 with every range five times as wide)
-            cand.jointly_reproduced = jointly_reproduced(responses, nuisance, residual, {t: m for t, (m, _) in prepared_targets.items()})
+            cand.jointly_reproduced = jointly_reproduced(responses, nuisance, residual, masks)
         if alternatives:
             cand.best_setting = alternative_setting((cand.best_setting, best_target_share), (best_on_envelope, best_envelope_share))
         # an effect may act on one target only: its score is its best target, not a mean that
@@ -1382,5 +1401,5 @@ def rank_effects(ctx: Context, effects: list[Effect], nuisance: Nuisance | None 
         cand.confirm_significance = config.confirm_significance
     candidates.sort(key=lambda c: (not c.applicable, -c.share))
     if nuisance is not None:
-        effects_alike(candidates, screened, nuisance, residual, {t: m for t, (m, _) in prepared_targets.items()})
+        effects_alike(candidates, screened, nuisance, residual, masks)
     return candidates
