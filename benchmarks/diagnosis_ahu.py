@@ -278,24 +278,15 @@ def _perfect(case: Case, fmu: Path, folder: Path):
     """The case's workflow prepared on the record as measured, the setups fed the plant's true
     air flow (or None), and the perfect recalibration's series on training and validation: the
     FMU at the true tuners with the withheld error as the generic effect adds it."""
-    from simgap.evaluation import STATUS_OK, evaluate
-    from simgap.models.blind import written_onto
+    from simgap.models.blind import perfect_series
     from simgap.setup import prepare
 
     workflow = write_case(case, fmu, folder)
     noisy = prepare(workflow)
     fed_true = prepare(_fed_air_flow(workflow, 1.0 / case.flow_gain, "as_the_plant_was")) if case.flow_gain != 1.0 else None
-    blind, tuners = as_blind(case), {**TRUTH, **case.truth}
-
-    def perfect(kind: str) -> dict[str, np.ndarray]:
-        setup = getattr(fed_true or noisy, kind)
-        row = evaluate(setup, 0, tuners, keep_series=True)
-        if row["status"] != STATUS_OK:
-            raise RuntimeError(f"{case.label}: the true tuners failed: {row.get('error')}")
-        return {t.name: written_onto(blind, t.name, np.asarray(row["series"][t.name], dtype=float), t.time) for t in setup.targets}
-
+    source, blind, tuners = fed_true or noisy, as_blind(case), {**TRUTH, **case.truth}
     try:
-        return noisy, perfect("training"), perfect("validation")
+        return noisy, perfect_series(source.training, tuners, blind), perfect_series(source.validation, tuners, blind)
     finally:
         if fed_true is not None:
             fed_true.simulator.close()

@@ -794,6 +794,26 @@ def written_onto(case: BlindCase, name: str, values, time):
     return out
 
 
+def simulated_series(setup, params: dict[str, float]):
+    """Every target's simulated series for ``params`` on ``setup`` (a prepared training or
+    validation segment), as float arrays; None where the simulation failed."""
+    import numpy as np
+
+    from simgap.evaluation import STATUS_OK, evaluate
+
+    row = evaluate(setup, 0, params, keep_series=True)
+    return None if row["status"] != STATUS_OK else {k: np.asarray(v, dtype=float) for k, v in row["series"].items()}
+
+
+def perfect_series(setup, params: dict[str, float], case: BlindCase) -> dict:
+    """The perfect recalibration's series on ``setup``: the model at ``params`` (the truth), each
+    target written as ``case``'s sensor and logger wrote it (:func:`written_onto`)."""
+    sim = simulated_series(setup, params)
+    if sim is None:
+        raise RuntimeError(f"{case.label}: the true parameters failed")
+    return {t.name: written_onto(case, t.name, sim[t.name], t.time) for t in setup.targets}
+
+
 def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict | None:
     """Whether any diagnosis could tell the withheld effect from re-tuning on this record: a
     ceiling that depends neither on the diagnosis's search nor on its rules.
@@ -820,9 +840,6 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
     a null case."""
     import json
 
-    import numpy as np
-
-    from simgap.evaluation import STATUS_OK, evaluate
     from simgap.setup import prepare
 
     folder = Path(folder)
@@ -851,17 +868,10 @@ def retuning_reach(case: BlindCase, folder: Path, iterations: int = 25) -> dict 
         shape_noise = _ZONE_SHAPE["noise"] if case.model == ZONE else _WORKFLOW_SHAPE[case.model]["noise"]
         scale = {t.name: shape_noise.get(t.name, 1.0) * case.noise_scale for t in noisy.training.targets}
 
-        def series(setup, params) -> dict[str, np.ndarray] | None:
-            row = evaluate(setup, 0, params, keep_series=True)
-            return None if row["status"] != STATUS_OK else {k: np.asarray(s, dtype=float) for k, s in row["series"].items()}
+        source = fed_true if fed_true is not None else noisy
 
-        def perfect(kind: str) -> dict[str, np.ndarray]:
-            source = fed_true if fed_true is not None else noisy
-            setup = getattr(source, kind)
-            sim = series(setup, perfect_params)
-            if sim is None:
-                raise RuntimeError(f"{case.label}: the true parameters failed")
-            return {t.name: written_onto(case, t.name, sim[t.name], t.time) for t in setup.targets}
+        def perfect(kind: str) -> dict:
+            return perfect_series(getattr(source, kind), perfect_params, case)
 
         return reach_against_retuning(noisy, perfect("training"), perfect("validation"), tuners, scale, iterations)
     finally:
@@ -899,7 +909,6 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
     from scipy.optimize import least_squares
 
     from simgap.diagnosis.shrink import improvement_p_value
-    from simgap.evaluation import STATUS_OK, evaluate
 
     space = noisy.space
     if widen:
@@ -911,11 +920,8 @@ def reach_against_retuning(noisy, ideal_training: dict, ideal_validation: dict, 
     names = list(space.names)
 
     def series(setup, params) -> dict[str, np.ndarray] | None:
-        row = evaluate(setup, 0, params, keep_series=True)
-        if row["status"] != STATUS_OK:
-            return None
-        out = {k: np.asarray(s, dtype=float) for k, s in row["series"].items()}
-        return reading(out) if reading is not None else out
+        out = simulated_series(setup, params)
+        return reading(out) if reading is not None and out is not None else out
 
     def values(u: np.ndarray) -> dict[str, float]:
         return space.as_dicts(space.from_unit(np.asarray(u)[None, :]))[0]
